@@ -1,0 +1,112 @@
+/// @file ObjectAccel.h
+/// The interface every object-level accelerator implements (the paper's per-object kd-trees
+/// today, wide BVHs later), so that a new kind drops in without touching its callers.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string_view>
+
+#include "tracegraph/backend/Box3.h"
+#include "tracegraph/backend/Ray.h"
+#include "tracegraph/backend/TriangleMesh.h"
+#include "tracegraph/backend/WatertightTriangle.h"
+
+namespace tg {
+
+/// Which object accelerator to build.
+enum class AccelKind : std::uint8_t {
+  SahKdTree,   ///< high-quality SAH kd-tree, O(n log n) build (static and rigid objects)
+  FastKdTree,  ///< the paper's fast kd-tree for deforming objects (spatial median splits)
+};
+
+/// Name used in statistics and benchmark rows ("sah-kd", "fast-kd").
+std::string_view accelKindName(AccelKind kind);
+
+/// What a build produced, for statistics and benchmarks.
+struct BuildStats {
+  std::size_t triangles = 0;    ///< triangles in the mesh
+  std::size_t degenerate = 0;   ///< zero-area triangles left out of the tree (never hit)
+  std::size_t nodes = 0;        ///< inner nodes + leaves
+  std::size_t leaves = 0;
+  std::size_t emptyLeaves = 0;
+  std::size_t primReferences = 0;  ///< triangle references in leaves (>= triangles with splits)
+  std::size_t maxDepth = 0;
+  std::size_t bytes = 0;        ///< memory held by the accelerator (nodes, refs, triangle copy)
+  double buildMs = 0.0;
+};
+
+/// Small direct-mapped cache of the triangles a ray has already tested in the current object.
+///
+/// Mailboxing: a triangle referenced by several kd-tree leaves is tested once per ray. The
+/// mailbox lives on the tracing thread's stack, one per ray, so threads never share writes
+/// (the paper's per-ray-id mailboxes in shared memory would need atomic or per-thread copies).
+struct Mailbox {
+  static constexpr std::uint32_t kSlots = 16;
+  std::uint32_t slots[kSlots];
+
+  void clear() {
+    for (std::uint32_t& s : slots) s = kInvalidId;
+  }
+  /// True when `prim` was already tested; otherwise remembers it and returns false.
+  bool testAndSet(std::uint32_t prim) {
+    std::uint32_t& s = slots[(prim * 2654435761u) >> 28];
+    if (s == prim) return true;
+    s = prim;
+    return false;
+  }
+};
+
+/// A ray in an object's space, with its per-ray constants. `tfar` shrinks as hits are found.
+struct ObjectRay {
+  WatertightRay wt;      ///< origin, direction, tnear and shear constants
+  Vec3f inverseDirection;  ///< 1/direction per component (+-inf for +-0 components)
+  float tfar = kInfinity;
+  std::uint32_t instanceId = kInvalidId;
+  std::uint32_t objectId = kInvalidId;
+
+  ObjectRay() = default;
+  ObjectRay(const Vec3f& origin, const Vec3f& direction, float tnear, float tfar_,
+            std::uint32_t instance, std::uint32_t object)
+      : wt(origin, direction, tnear),
+        inverseDirection(1.0f / direction.x, 1.0f / direction.y, 1.0f / direction.z),
+        tfar(tfar_),
+        instanceId(instance),
+        objectId(object) {}
+};
+
+/// Per-query scratch state owned by the thread that traces the ray.
+struct TraversalContext {
+  Mailbox mailbox;          ///< triangles tested in the current object
+  Mailbox instanceMailbox;  ///< instances tested by the top level for this ray
+  std::uint64_t triangleTests = 0;  ///< statistics: watertight tests performed
+  std::uint64_t nodeVisits = 0;     ///< statistics: accelerator nodes visited
+};
+
+/// An object-level accelerator over one triangle mesh, in the mesh's own (object) space.
+class ObjectAccel {
+ public:
+  virtual ~ObjectAccel() = default;
+  ObjectAccel() = default;
+  ObjectAccel(const ObjectAccel&) = delete;
+  ObjectAccel& operator=(const ObjectAccel&) = delete;
+
+  virtual AccelKind kind() const = 0;
+  /// (Re)builds over `mesh`, which must be valid (TriangleMesh::validate). The accelerator keeps
+  /// its own copy of the triangles it needs, so the mesh may change afterwards.
+  virtual void build(const TriangleMesh& mesh) = 0;
+  /// Bounds of the non-degenerate triangles (empty box when there are none).
+  virtual Box3f bounds() const = 0;
+  /// Closest hit: when a triangle is hit at t in [tnear, ray.tfar] and precedes `hit`
+  /// (see hitPrecedes), writes t, u, v, primId, instanceId and objectId into `hit` and lowers
+  /// ray.tfar. Returns true when `hit` changed.
+  virtual bool intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const = 0;
+  /// Any hit in [tnear, tfar].
+  virtual bool occluded(const ObjectRay& ray, TraversalContext& ctx) const = 0;
+  virtual const BuildStats& stats() const = 0;
+};
+
+/// Creates an (unbuilt) accelerator of the given kind.
+std::unique_ptr<ObjectAccel> createObjectAccel(AccelKind kind);
+
+}  // namespace tg

@@ -1,0 +1,54 @@
+/// @file Ray.h
+/// Rays and hit records shared by every accelerator and the renderer.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+#include "tracegraph/backend/Vec3.h"
+
+namespace tg {
+
+/// Marks "no id" in hit records and id tables.
+inline constexpr std::uint32_t kInvalidId = 0xFFFFFFFFu;
+inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+/// A ray origin + t * direction for t in the closed interval [tnear, tfar].
+///
+/// Interval rule (hard case 11): a hit exactly at tnear or exactly at tfar counts. The direction
+/// need not be unit length; hit distances are in units of the direction's length, and the
+/// two-level traversal keeps them comparable across instances by never renormalising it.
+struct Ray {
+  Vec3f origin;
+  float tnear = 0.0f;
+  Vec3f direction{0.0f, 0.0f, 1.0f};
+  float tfar = kInfinity;
+};
+
+/// The closest hit along a ray.
+///
+/// Ties: when two triangles are hit at exactly the same float t, the one with the smaller
+/// (instanceId, primId) wins, so the answer never depends on traversal order, accelerator or
+/// thread count (hard case 2).
+struct Hit {
+  float t = kInfinity;
+  /// Barycentrics: the hit point is (1-u-v)*v0 + u*v1 + v*v2 of the object-space triangle.
+  float u = 0.0f, v = 0.0f;
+  std::uint32_t instanceId = kInvalidId;
+  std::uint32_t objectId = kInvalidId;
+  std::uint32_t primId = kInvalidId;
+  /// World-space geometric normal, unit length, cross(v1-v0, v2-v0) mapped by the inverse
+  /// transpose of the instance matrix.
+  Vec3f geometricNormal;
+
+  bool valid() const { return primId != kInvalidId; }
+};
+
+/// Total order used to break exact ties in t (see Hit).
+inline bool hitPrecedes(float t, std::uint32_t instanceId, std::uint32_t primId, const Hit& best) {
+  if (t != best.t) return t < best.t;
+  if (instanceId != best.instanceId) return instanceId < best.instanceId;
+  return primId < best.primId;
+}
+
+}  // namespace tg

@@ -1,0 +1,59 @@
+/// @file ReferenceIntersector.h
+/// The judge of every accelerator: brute force over all triangles, in double precision.
+///
+/// It reads a committed Scene's meshes and double-precision instance matrices (never its
+/// accelerators or float matrices), flattens every instance into world space in double, and
+/// answers closest-hit and any-hit queries by testing every triangle. Besides the answer it
+/// reports whether the answer is *ambiguous* in float: a hit within a relative 1e-6 of a
+/// triangle edge or of the ray's ends, or two triangles at nearly the same t. Differential tests
+/// compare exactly where the reference is unambiguous and accept either answer where it is not.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "tracegraph/backend/Ray.h"
+#include "tracegraph/backend/Scene.h"
+
+namespace tg {
+
+/// A reference answer.
+struct ReferenceHit {
+  bool hit = false;
+  double t = 0.0;
+  std::uint32_t instanceId = kInvalidId;
+  std::uint32_t primId = kInvalidId;
+  /// Hit/miss could flip under float rounding (grazing an edge, or t at tnear/tfar).
+  bool hitAmbiguous = false;
+  /// Another triangle is hit within the t tolerance, so either may be reported.
+  bool primAmbiguous = false;
+};
+
+/// Brute-force double-precision ray queries over a flattened copy of a scene.
+class ReferenceIntersector {
+ public:
+  /// Flattens the committed state of `scene` (every live instance of every object).
+  explicit ReferenceIntersector(const Scene& scene);
+
+  ReferenceHit intersect(const Ray& ray) const;
+  /// Any hit in [tnear, tfar]; `ambiguous` (optional) is set when the answer could flip.
+  bool occluded(const Ray& ray, bool* ambiguous = nullptr) const;
+  /// t of the ray against one instanced triangle, if it hits (edges inclusive, no tolerance).
+  std::optional<double> intersectTriangle(const Ray& ray, std::uint32_t instanceId,
+                                          std::uint32_t primId) const;
+  /// Relative tolerance used for t comparisons and ambiguity (1e-6 of the hit's magnitude).
+  static double tolerance(const Ray& ray, double t);
+
+  std::size_t triangleCount() const { return triangles_.size(); }
+
+ private:
+  struct Triangle {
+    Vec3d v0, v1, v2;
+    std::uint32_t instanceId, primId;
+  };
+  std::vector<Triangle> triangles_;
+  std::vector<std::vector<std::size_t>> index_;  ///< [instance][prim] -> triangles_ slot
+};
+
+}  // namespace tg

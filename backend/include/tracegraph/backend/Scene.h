@@ -1,0 +1,120 @@
+/// @file Scene.h
+/// The engine's C++ API: objects (meshes with their accelerators), instances (an object and an
+/// affine matrix) and the two-level structure over them, updated by commit().
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "tracegraph/backend/Affine.h"
+#include "tracegraph/backend/ObjectAccel.h"
+#include "tracegraph/backend/TopLevelAccel.h"
+#include "tracegraph/backend/TriangleMesh.h"
+
+namespace tg {
+
+using ObjectId = std::uint32_t;
+using InstanceId = std::uint32_t;
+
+/// How an object's geometry behaves over time; it chooses the accelerator builder.
+enum class ObjectUsage : std::uint8_t {
+  Static,     ///< never changes: high-quality (SAH) build
+  Rigid,      ///< moved only through its instances' matrices: high-quality build, once
+  Deforming,  ///< points change between frames: fast builder, rebuilt whenever they change
+};
+
+/// Options fixed when a scene is created.
+struct SceneOptions {
+  TopLevelKind topLevel = TopLevelKind::KdTree;
+  /// Accelerator kinds per usage; callers of later engines change these, not their code.
+  AccelKind staticAccel = AccelKind::SahKdTree;
+  AccelKind deformingAccel = AccelKind::FastKdTree;
+};
+
+/// What one commit() did, for per-frame statistics.
+struct CommitStats {
+  std::size_t objectsRebuilt = 0;
+  std::size_t trianglesRebuilt = 0;
+  std::size_t instancesUpdated = 0;
+  bool topLevelRebuilt = false;
+  double rebuildMs = 0.0;   ///< wall time of the (parallel) object builds
+  double topLevelMs = 0.0;  ///< wall time of the top-level build
+};
+
+/// A two-level ray-tracing scene (Wald, Benthin, Slusallek 2003).
+///
+/// Edits (create/set/destroy) take effect at the next commit(); queries see the last committed
+/// state only, so a half-done edit is never visible. Queries are const and may run on many
+/// threads at once; edits and commit() must not overlap queries. Every edit validates its
+/// arguments first and throws tg::Error naming the call, leaving the scene unchanged.
+class Scene {
+ public:
+  explicit Scene(const SceneOptions& options = {});
+  ~Scene();
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
+
+  /// Adds an object; its accelerator is built at the next commit().
+  ObjectId createObject(TriangleMesh mesh, ObjectUsage usage = ObjectUsage::Static);
+  /// Replaces an object's mesh (topology may change).
+  void setObjectMesh(ObjectId object, TriangleMesh mesh);
+  /// Moves an object's points (same count; the usual per-frame update of deforming objects).
+  void setObjectPositions(ObjectId object, std::span<const Vec3f> positions);
+  /// Removes an object; rejected while instances still use it.
+  void destroyObject(ObjectId object);
+  /// The mesh as last committed (or as created, before the first commit).
+  const TriangleMesh& objectMesh(ObjectId object) const;
+  ObjectUsage objectUsage(ObjectId object) const;
+  /// The object's accelerator, or null before its first build.
+  const ObjectAccel* objectAccel(ObjectId object) const;
+
+  /// Places an object in the world. The matrix must be finite and non-singular.
+  InstanceId createInstance(ObjectId object, const Affine3d& objectToWorld = Affine3d{});
+  void setInstanceTransform(InstanceId instance, const Affine3d& objectToWorld);
+  const Affine3d& instanceTransform(InstanceId instance) const;
+  ObjectId instanceObject(InstanceId instance) const;
+  void destroyInstance(InstanceId instance);
+
+  /// Builds changed objects (in parallel with oneTBB) and rebuilds the top level when any
+  /// instance or object changed.
+  CommitStats commit();
+  /// True when there are edits not yet committed.
+  bool hasPendingChanges() const;
+
+  /// Closest hit in [ray.tnear, ray.tfar]; fills every field of `hit` including the world
+  /// normal. Rays with a NaN/Inf origin or a zero/NaN/Inf direction never hit.
+  bool intersect(const Ray& ray, Hit& hit) const;
+  bool intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const;
+  /// Any hit in [ray.tnear, ray.tfar].
+  bool occluded(const Ray& ray) const;
+  bool occluded(const Ray& ray, TraversalContext& ctx) const;
+
+  /// World bounds of the committed scene.
+  Box3f bounds() const;
+  std::size_t objectCount() const;
+  std::size_t instanceCount() const;
+  /// Triangles summed over instances (what a flattened copy would hold).
+  std::size_t instancedTriangleCount() const;
+  const TopLevelAccel& topLevel() const;
+  const SceneOptions& options() const;
+
+  /// Interpolated shading data at a hit (for renderers): world-space shading normal (the
+  /// geometric normal when the mesh has none, flipped to its side) and texture coordinates.
+  struct SurfaceData {
+    Vec3f position;        ///< world-space hit point, origin + t * direction
+    Vec3f geometricNormal; ///< unit, world space
+    Vec3f shadingNormal;   ///< unit, world space, interpolated when the mesh has normals
+    Vec2f uv;              ///< interpolated, or (u, v) barycentrics when the mesh has none
+    bool hasUv = false;
+  };
+  SurfaceData surfaceAt(const Ray& ray, const Hit& hit) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tg

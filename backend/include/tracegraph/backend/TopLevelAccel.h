@@ -1,0 +1,88 @@
+/// @file TopLevelAccel.h
+/// The top-level accelerator over instances, and the instance record it traverses.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string_view>
+
+#include "tracegraph/backend/Affine.h"
+#include "tracegraph/backend/ObjectAccel.h"
+
+namespace tg {
+
+/// What the top level needs of one instance: its object's accelerator, both matrices
+/// (stored in float, computed in double) and its conservative world bounds.
+struct InstanceRecord {
+  const ObjectAccel* accel = nullptr;
+  Affine3f objectToWorld;
+  Affine3f worldToObject;
+  Box3f worldBounds;
+  std::uint32_t instanceId = kInvalidId;
+  std::uint32_t objectId = kInvalidId;
+  bool identity = false;  ///< objectToWorld is exactly the identity: skip the ray transform
+};
+
+/// Which top-level accelerator to build.
+enum class TopLevelKind : std::uint8_t {
+  KdTree,  ///< the paper's Algorithm 1 kd-tree over instance bounds
+};
+
+/// Statistics of a top-level build.
+struct TopLevelStats {
+  std::size_t instances = 0;
+  std::size_t nodes = 0;
+  std::size_t leaves = 0;
+  std::size_t maxDepth = 0;
+  std::size_t references = 0;  ///< instance references in leaves
+  double buildMs = 0.0;
+};
+
+/// A top-level accelerator: built over instance records, traversed with world-space rays.
+class TopLevelAccel {
+ public:
+  virtual ~TopLevelAccel() = default;
+  TopLevelAccel() = default;
+  TopLevelAccel(const TopLevelAccel&) = delete;
+  TopLevelAccel& operator=(const TopLevelAccel&) = delete;
+
+  virtual TopLevelKind kind() const = 0;
+  /// Rebuilds over `instances`; the records must stay alive and unchanged until the next build.
+  virtual void build(std::span<const InstanceRecord> instances) = 0;
+  /// Closest hit of a world ray over all instances (updates hit; world normal not filled).
+  virtual bool intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const = 0;
+  /// Any hit of a world ray in [tnear, tfar].
+  virtual bool occluded(const Ray& ray, TraversalContext& ctx) const = 0;
+  virtual const TopLevelStats& stats() const = 0;
+};
+
+std::string_view topLevelKindName(TopLevelKind kind);
+std::unique_ptr<TopLevelAccel> createTopLevelAccel(TopLevelKind kind);
+
+/// Transforms a world ray into the instance's object space (direction not renormalised, so t
+/// stays comparable) and intersects its object. Shared by every top-level accelerator.
+inline bool intersectInstance(const InstanceRecord& inst, const Ray& ray, Hit& hit,
+                              TraversalContext& ctx) {
+  const float tfar = hit.t < ray.tfar ? hit.t : ray.tfar;
+  ObjectRay objectRay =
+      inst.identity
+          ? ObjectRay(ray.origin, ray.direction, ray.tnear, tfar, inst.instanceId, inst.objectId)
+          : ObjectRay(inst.worldToObject.transformPoint(ray.origin),
+                      inst.worldToObject.transformVector(ray.direction), ray.tnear, tfar,
+                      inst.instanceId, inst.objectId);
+  return inst.accel->intersect(objectRay, hit, ctx);
+}
+
+/// Any-hit counterpart of intersectInstance.
+inline bool occludedInstance(const InstanceRecord& inst, const Ray& ray, TraversalContext& ctx) {
+  const ObjectRay objectRay =
+      inst.identity ? ObjectRay(ray.origin, ray.direction, ray.tnear, ray.tfar, inst.instanceId,
+                                inst.objectId)
+                    : ObjectRay(inst.worldToObject.transformPoint(ray.origin),
+                                inst.worldToObject.transformVector(ray.direction), ray.tnear,
+                                ray.tfar, inst.instanceId, inst.objectId);
+  return inst.accel->occluded(objectRay, ctx);
+}
+
+}  // namespace tg

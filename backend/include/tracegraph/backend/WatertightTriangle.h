@@ -1,0 +1,86 @@
+/// @file WatertightTriangle.h
+/// Watertight ray/triangle intersection (Woop, Benthin, Wald, JCGT 2013).
+///
+/// The ray is sheared so that it becomes the +z axis; the three 2D edge functions of the sheared
+/// triangle then decide inside/outside. Neighbouring triangles evaluate the *same* edge function
+/// for a shared edge (with opposite sign), so a ray through an edge or vertex can never slip
+/// between them (hard case 1). When an edge function is exactly zero in float, it is recomputed
+/// in double so that the sign on the edge is decided consistently (hard case 2).
+#pragma once
+
+#include <cmath>
+
+#include "tracegraph/backend/Ray.h"
+
+namespace tg {
+
+/// Per-ray constants of the watertight test, computed once per (object-space) ray.
+struct WatertightRay {
+  Vec3f origin;
+  Vec3f direction;
+  float tnear = 0.0f;
+  int kx = 0, ky = 1, kz = 2;  ///< axis permutation: kz = dominant direction axis
+  float sx = 0.0f, sy = 0.0f, sz = 1.0f;  ///< shear constants
+
+  WatertightRay() = default;
+  /// `direction` must be finite and non-zero (the scene rejects other rays before traversal).
+  WatertightRay(const Vec3f& org, const Vec3f& dir, float tnear_) : origin(org), direction(dir), tnear(tnear_) {
+    const Vec3f ad = abs(dir);
+    kz = maxDimension(ad);
+    kx = kz == 2 ? 0 : kz + 1;
+    ky = kx == 2 ? 0 : kx + 1;
+    // Keep the winding of the sheared triangle independent of the ray's orientation.
+    if (dir[kz] < 0.0f) std::swap(kx, ky);
+    sx = dir[kx] / dir[kz];
+    sy = dir[ky] / dir[kz];
+    sz = 1.0f / dir[kz];
+  }
+};
+
+/// Distance and barycentrics of a triangle hit.
+struct TriangleHit {
+  float t = 0.0f, u = 0.0f, v = 0.0f;
+};
+
+/// Tests the triangle (a, b, c) against the ray for t in [ray.tnear, tfar]. Degenerate
+/// triangles (zero determinant) never hit. Both faces are hit (no culling).
+inline bool intersectWatertight(const WatertightRay& ray, const Vec3f& a, const Vec3f& b,
+                                const Vec3f& c, float tfar, TriangleHit& out) {
+  const Vec3f A = a - ray.origin;
+  const Vec3f B = b - ray.origin;
+  const Vec3f C = c - ray.origin;
+  const float ax = A[ray.kx] - ray.sx * A[ray.kz];
+  const float ay = A[ray.ky] - ray.sy * A[ray.kz];
+  const float bx = B[ray.kx] - ray.sx * B[ray.kz];
+  const float by = B[ray.ky] - ray.sy * B[ray.kz];
+  const float cx = C[ray.kx] - ray.sx * C[ray.kz];
+  const float cy = C[ray.ky] - ray.sy * C[ray.kz];
+  float U = cx * by - cy * bx;
+  float V = ax * cy - ay * cx;
+  float W = bx * ay - by * ax;
+  if (U == 0.0f || V == 0.0f || W == 0.0f) {
+    // Exactly on an edge in float: decide in double, where these products are exact.
+    const double cxby = double(cx) * double(by), cybx = double(cy) * double(bx);
+    const double axcy = double(ax) * double(cy), aycx = double(ay) * double(cx);
+    const double bxay = double(bx) * double(ay), byax = double(by) * double(ax);
+    U = static_cast<float>(cxby - cybx);
+    V = static_cast<float>(axcy - aycx);
+    W = static_cast<float>(bxay - byax);
+  }
+  if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
+  const float det = U + V + W;
+  if (det == 0.0f) return false;
+  const float az = ray.sz * A[ray.kz];
+  const float bz = ray.sz * B[ray.kz];
+  const float cz = ray.sz * C[ray.kz];
+  const float T = U * az + V * bz + W * cz;
+  const float invDet = 1.0f / det;
+  const float t = T * invDet;
+  if (!(t >= ray.tnear && t <= tfar)) return false;  // also rejects NaN
+  out.t = t;
+  out.u = V * invDet;
+  out.v = W * invDet;
+  return true;
+}
+
+}  // namespace tg

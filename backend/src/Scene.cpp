@@ -1,0 +1,349 @@
+#include "tracegraph/backend/Scene.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "tracegraph/backend/Error.h"
+
+namespace tg {
+namespace {
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+/// Rounds a double box outwards to float and pads it by a few float ulps of its magnitude, so
+/// that a ray which the float matrices send onto the object's silhouette is not culled by the
+/// top level.
+Box3f conservativeFloatBox(const Box3d& b) {
+  if (b.empty()) return {};
+  Box3f out;
+  for (int a = 0; a < 3; ++a) {
+    const double magnitude = std::max({std::abs(b.lower[a]), std::abs(b.upper[a]), 1e-30});
+    const double pad = magnitude * 1e-6;
+    out.lower[a] = std::nextafter(static_cast<float>(b.lower[a] - pad), -kInfinity);
+    out.upper[a] = std::nextafter(static_cast<float>(b.upper[a] + pad), kInfinity);
+  }
+  return out;
+}
+
+bool isTraceable(const Ray& ray) {
+  return isFinite(ray.origin) && isFinite(ray.direction) &&
+         !(ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) &&
+         !std::isnan(ray.tnear) && !std::isnan(ray.tfar) && ray.tnear <= ray.tfar;
+}
+
+}  // namespace
+
+struct Scene::Impl {
+  struct Object {
+    TriangleMesh committed;
+    std::optional<TriangleMesh> pending;
+    ObjectUsage usage = ObjectUsage::Static;
+    std::unique_ptr<ObjectAccel> accel;
+    std::size_t instanceRefs = 0;
+    bool alive = true;
+    bool dirty = true;
+  };
+  struct Instance {
+    ObjectId object = kInvalidId;
+    Affine3d objectToWorld;
+    Affine3d worldToObject;
+    Affine3f objectToWorldF;
+    Affine3f worldToObjectF;
+    bool alive = true;
+  };
+
+  SceneOptions options;
+  std::vector<Object> objects;
+  std::vector<Instance> instances;
+  std::vector<InstanceRecord> records;
+  std::unique_ptr<TopLevelAccel> topLevel;
+  bool instancesDirty = true;
+  std::size_t pendingInstanceUpdates = 0;
+
+  Object& object(ObjectId id, const char* call) {
+    if (id >= objects.size() || !objects[id].alive)
+      throw Error(std::string(call) + ": unknown object id " + std::to_string(id));
+    return objects[id];
+  }
+  Instance& instance(InstanceId id, const char* call) {
+    if (id >= instances.size() || !instances[id].alive)
+      throw Error(std::string(call) + ": unknown instance id " + std::to_string(id));
+    return instances[id];
+  }
+  static void checkMesh(const TriangleMesh& mesh, const char* call) {
+    const std::string problem = mesh.validate();
+    if (!problem.empty()) throw Error(std::string(call) + ": invalid mesh: " + problem);
+  }
+  static void setMatrices(Instance& inst, const Affine3d& m, const char* call) {
+    if (!m.isFinite()) throw Error(std::string(call) + ": matrix has NaN or infinite entries");
+    const std::optional<Affine3d> inverse = m.inverse();
+    if (!inverse) throw Error(std::string(call) + ": matrix is singular (zero scale?)");
+    inst.objectToWorld = m;
+    inst.worldToObject = *inverse;
+    inst.objectToWorldF = Affine3f(m);
+    inst.worldToObjectF = Affine3f(*inverse);
+  }
+};
+
+Scene::Scene(const SceneOptions& options) : impl_(std::make_unique<Impl>()) {
+  impl_->options = options;
+  impl_->topLevel = createTopLevelAccel(options.topLevel);
+}
+
+Scene::~Scene() = default;
+
+ObjectId Scene::createObject(TriangleMesh mesh, ObjectUsage usage) {
+  Impl::checkMesh(mesh, "Scene::createObject");
+  Impl::Object obj;
+  obj.committed = std::move(mesh);
+  obj.usage = usage;
+  impl_->objects.push_back(std::move(obj));
+  return static_cast<ObjectId>(impl_->objects.size() - 1);
+}
+
+void Scene::setObjectMesh(ObjectId object, TriangleMesh mesh) {
+  Impl::Object& obj = impl_->object(object, "Scene::setObjectMesh");
+  Impl::checkMesh(mesh, "Scene::setObjectMesh");
+  obj.pending = std::move(mesh);
+  obj.dirty = true;
+}
+
+void Scene::setObjectPositions(ObjectId object, std::span<const Vec3f> positions) {
+  Impl::Object& obj = impl_->object(object, "Scene::setObjectPositions");
+  const TriangleMesh& current = obj.pending ? *obj.pending : obj.committed;
+  if (positions.size() != current.positions.size())
+    throw Error("Scene::setObjectPositions: " + std::to_string(positions.size()) +
+                " positions for an object with " + std::to_string(current.positions.size()));
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    if (!isFinite(positions[i]))
+      throw Error("Scene::setObjectPositions: position " + std::to_string(i) +
+                  " is NaN or infinite");
+  if (!obj.pending) obj.pending = obj.committed;
+  obj.pending->positions.assign(positions.begin(), positions.end());
+  obj.dirty = true;
+}
+
+void Scene::destroyObject(ObjectId object) {
+  Impl::Object& obj = impl_->object(object, "Scene::destroyObject");
+  if (obj.instanceRefs != 0)
+    throw Error("Scene::destroyObject: object " + std::to_string(object) + " still has " +
+                std::to_string(obj.instanceRefs) + " instances");
+  obj = Impl::Object{};
+  obj.alive = false;
+  obj.dirty = false;
+}
+
+const TriangleMesh& Scene::objectMesh(ObjectId object) const {
+  return impl_->object(object, "Scene::objectMesh").committed;
+}
+
+ObjectUsage Scene::objectUsage(ObjectId object) const {
+  return impl_->object(object, "Scene::objectUsage").usage;
+}
+
+const ObjectAccel* Scene::objectAccel(ObjectId object) const {
+  return impl_->object(object, "Scene::objectAccel").accel.get();
+}
+
+InstanceId Scene::createInstance(ObjectId object, const Affine3d& objectToWorld) {
+  Impl::Object& obj = impl_->object(object, "Scene::createInstance");
+  Impl::Instance inst;
+  inst.object = object;
+  Impl::setMatrices(inst, objectToWorld, "Scene::createInstance");
+  ++obj.instanceRefs;
+  impl_->instances.push_back(inst);
+  impl_->instancesDirty = true;
+  ++impl_->pendingInstanceUpdates;
+  return static_cast<InstanceId>(impl_->instances.size() - 1);
+}
+
+void Scene::setInstanceTransform(InstanceId instance, const Affine3d& objectToWorld) {
+  Impl::Instance& inst = impl_->instance(instance, "Scene::setInstanceTransform");
+  Impl::Instance updated = inst;
+  Impl::setMatrices(updated, objectToWorld, "Scene::setInstanceTransform");
+  inst = updated;
+  impl_->instancesDirty = true;
+  ++impl_->pendingInstanceUpdates;
+}
+
+const Affine3d& Scene::instanceTransform(InstanceId instance) const {
+  return impl_->instance(instance, "Scene::instanceTransform").objectToWorld;
+}
+
+ObjectId Scene::instanceObject(InstanceId instance) const {
+  return impl_->instance(instance, "Scene::instanceObject").object;
+}
+
+void Scene::destroyInstance(InstanceId instance) {
+  Impl::Instance& inst = impl_->instance(instance, "Scene::destroyInstance");
+  --impl_->objects[inst.object].instanceRefs;
+  inst.alive = false;
+  impl_->instancesDirty = true;
+  ++impl_->pendingInstanceUpdates;
+}
+
+bool Scene::hasPendingChanges() const {
+  if (impl_->instancesDirty) return true;
+  for (const Impl::Object& obj : impl_->objects)
+    if (obj.alive && obj.dirty) return true;
+  return false;
+}
+
+CommitStats Scene::commit() {
+  CommitStats stats;
+  Impl& s = *impl_;
+  std::vector<ObjectId> dirty;
+  for (ObjectId id = 0; id < s.objects.size(); ++id) {
+    Impl::Object& obj = s.objects[id];
+    if (!obj.alive || !obj.dirty) continue;
+    if (obj.pending) {
+      obj.committed = std::move(*obj.pending);
+      obj.pending.reset();
+    }
+    const AccelKind kind =
+        obj.usage == ObjectUsage::Deforming ? s.options.deformingAccel : s.options.staticAccel;
+    if (!obj.accel || obj.accel->kind() != kind) obj.accel = createObjectAccel(kind);
+    dirty.push_back(id);
+    stats.trianglesRebuilt += obj.committed.triangleCount();
+  }
+  auto start = std::chrono::steady_clock::now();
+  tbb::parallel_for(std::size_t(0), dirty.size(), [&](std::size_t k) {
+    Impl::Object& obj = s.objects[dirty[k]];
+    obj.accel->build(obj.committed);
+    obj.dirty = false;
+  });
+  stats.rebuildMs = millisecondsSince(start);
+  stats.objectsRebuilt = dirty.size();
+
+  // Any rebuilt object may have new bounds, so its instances' world bounds change too.
+  if (s.instancesDirty || !dirty.empty()) {
+    start = std::chrono::steady_clock::now();
+    s.records.clear();
+    for (InstanceId id = 0; id < s.instances.size(); ++id) {
+      const Impl::Instance& inst = s.instances[id];
+      if (!inst.alive) continue;
+      const Impl::Object& obj = s.objects[inst.object];
+      const Box3f objectBounds = obj.accel->bounds();
+      if (objectBounds.empty()) continue;  // nothing to hit
+      InstanceRecord r;
+      r.accel = obj.accel.get();
+      r.objectToWorld = inst.objectToWorldF;
+      r.worldToObject = inst.worldToObjectF;
+      r.identity = inst.objectToWorld == Affine3d::identity();
+      r.worldBounds = conservativeFloatBox(inst.objectToWorld.transformBox(
+          Box3d(Vec3d(objectBounds.lower), Vec3d(objectBounds.upper))));
+      if (r.identity) r.worldBounds = objectBounds;
+      r.instanceId = id;
+      r.objectId = inst.object;
+      s.records.push_back(r);
+    }
+    s.topLevel->build(s.records);
+    stats.topLevelRebuilt = true;
+    stats.topLevelMs = millisecondsSince(start);
+    stats.instancesUpdated = s.pendingInstanceUpdates;
+    s.instancesDirty = false;
+    s.pendingInstanceUpdates = 0;
+  }
+  return stats;
+}
+
+bool Scene::intersect(const Ray& ray, Hit& hit) const {
+  TraversalContext ctx;
+  return intersect(ray, hit, ctx);
+}
+
+bool Scene::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const {
+  hit = Hit{};
+  if (!isTraceable(ray)) return false;
+  impl_->topLevel->intersect(ray, hit, ctx);
+  if (!hit.valid()) return false;
+  // Geometric normal in double: tiny triangles must not underflow to a zero normal. The inverse
+  // transpose keeps it perpendicular under non-uniform scale and points it to the same side of
+  // the surface after a mirroring (negative determinant) transform.
+  const TriangleMesh& mesh = impl_->objects[hit.objectId].committed;
+  const Vec3d a(mesh.positions[mesh.indices[3 * hit.primId]]);
+  const Vec3d b(mesh.positions[mesh.indices[3 * hit.primId + 1]]);
+  const Vec3d c(mesh.positions[mesh.indices[3 * hit.primId + 2]]);
+  const Vec3d n = impl_->instances[hit.instanceId].worldToObject.transformTransposed(
+      cross(b - a, c - a));
+  hit.geometricNormal = Vec3f(normalize(n));
+  return true;
+}
+
+bool Scene::occluded(const Ray& ray) const {
+  TraversalContext ctx;
+  return occluded(ray, ctx);
+}
+
+bool Scene::occluded(const Ray& ray, TraversalContext& ctx) const {
+  if (!isTraceable(ray)) return false;
+  return impl_->topLevel->occluded(ray, ctx);
+}
+
+Box3f Scene::bounds() const {
+  Box3f b;
+  for (const InstanceRecord& r : impl_->records) b.extend(r.worldBounds);
+  return b;
+}
+
+std::size_t Scene::objectCount() const {
+  std::size_t n = 0;
+  for (const Impl::Object& obj : impl_->objects) n += obj.alive ? 1 : 0;
+  return n;
+}
+
+std::size_t Scene::instanceCount() const {
+  std::size_t n = 0;
+  for (const Impl::Instance& inst : impl_->instances) n += inst.alive ? 1 : 0;
+  return n;
+}
+
+std::size_t Scene::instancedTriangleCount() const {
+  std::size_t n = 0;
+  for (const Impl::Instance& inst : impl_->instances)
+    if (inst.alive) n += impl_->objects[inst.object].committed.triangleCount();
+  return n;
+}
+
+const TopLevelAccel& Scene::topLevel() const { return *impl_->topLevel; }
+
+const SceneOptions& Scene::options() const { return impl_->options; }
+
+Scene::SurfaceData Scene::surfaceAt(const Ray& ray, const Hit& hit) const {
+  SurfaceData sd;
+  sd.position = ray.origin + ray.direction * hit.t;
+  sd.geometricNormal = hit.geometricNormal;
+  sd.shadingNormal = hit.geometricNormal;
+  sd.uv = {hit.u, hit.v};
+  if (!hit.valid()) return sd;
+  const TriangleMesh& mesh = impl_->objects[hit.objectId].committed;
+  const std::uint32_t i0 = mesh.indices[3 * hit.primId], i1 = mesh.indices[3 * hit.primId + 1],
+                      i2 = mesh.indices[3 * hit.primId + 2];
+  const float w = 1.0f - hit.u - hit.v;
+  if (!mesh.normals.empty()) {
+    const Vec3f n = mesh.normals[i0] * w + mesh.normals[i1] * hit.u + mesh.normals[i2] * hit.v;
+    const Vec3d world =
+        impl_->instances[hit.instanceId].worldToObject.transformTransposed(Vec3d(n));
+    const double len = length(world);
+    if (len > 0.0) {
+      sd.shadingNormal = Vec3f(world / len);
+      // Interpolated normals may point to the other side of the surface than the geometric
+      // one (bad input or sharp silhouettes); keep them on the geometric normal's side.
+      if (dot(sd.shadingNormal, sd.geometricNormal) < 0.0f) sd.shadingNormal = -sd.shadingNormal;
+    }
+  }
+  if (!mesh.uvs.empty()) {
+    const Vec2f &t0 = mesh.uvs[i0], &t1 = mesh.uvs[i1], &t2 = mesh.uvs[i2];
+    sd.uv = {t0.u * w + t1.u * hit.u + t2.u * hit.v, t0.v * w + t1.v * hit.u + t2.v * hit.v};
+    sd.hasUv = true;
+  }
+  return sd;
+}
+
+}  // namespace tg
