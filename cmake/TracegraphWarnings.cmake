@@ -3,7 +3,7 @@ add_library(tg_build_flags INTERFACE)
 target_compile_options(tg_build_flags INTERFACE
   $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
                                  -Wold-style-cast -Wcast-align -Wunused -Woverloaded-virtual
-                                 -Wnull-dereference -Wdouble-promotion -Wformat=2>)
+                                 -Wdouble-promotion -Wformat=2>)
 if(TG_WARNINGS_AS_ERRORS)
   target_compile_options(tg_build_flags INTERFACE -Werror)
 endif()

@@ -82,8 +82,11 @@ bool traverseKdTree(const std::vector<KdNode>& nodes, const Box3f& bounds, const
         if (o == split) stack[stackSize++] = {farChild, tmin, tmax};
         nodeIndex = nearChild;
       } else {
+        // tsplit <= 0: the plane is behind the origin, or the origin lies on it and the ray
+        // moves into the near child (chosen by its direction above); either way it never
+        // reaches the far child.
         const float tsplit = planeDistance(split, o, inverseDirection[axis]);
-        if (tsplit < 0.0f || tsplit > tmax) {
+        if (tsplit <= 0.0f || tsplit > tmax) {
           nodeIndex = nearChild;
         } else if (tsplit < tmin) {
           nodeIndex = farChild;

@@ -6,12 +6,15 @@
 namespace tg {
 namespace {
 
-/// Relative width of the band around an edge (in barycentric units) or an interval end
-/// inside which float and double may legitimately disagree.
-constexpr double kAmbiguityBand = 1e-6;
+/// Relative width (of the coordinates' magnitude) of the band around an edge or an interval
+/// end inside which float and double may legitimately disagree: about 32 float ulps. The float
+/// test shears the triangle relative to the ray origin, so its lateral error is a few ulps of
+/// the origin-to-vertex distance, amplified by the edge functions' products.
+constexpr double kAmbiguityBand = 4e-6;
 
 struct DoubleHit {
-  double t, u, v, margin;  ///< margin: smallest barycentric (negative outside)
+  double t, u, v;
+  double margin;  ///< signed distance of the plane hit to the nearest edge (negative outside)
 };
 
 /// Möller–Trumbore in double without early rejection, so that callers see how far outside
@@ -28,7 +31,16 @@ std::optional<DoubleHit> intersectDouble(const Vec3d& o, const Vec3d& d, const V
   const Vec3d q = cross(s, e1);
   const double v = dot(d, q) * inv;
   const double t = dot(e2, q) * inv;
-  return DoubleHit{t, u, v, std::min({u, v, 1.0 - u - v})};
+  // Barycentric i times twice the area over the length of edge i is the distance to that edge:
+  // measuring in space, not in barycentrics, keeps slivers from looking safely inside.
+  const double twiceArea = length(cross(e1, e2));
+  const double w = 1.0 - u - v;
+  const double inPlane = std::min({w * twiceArea / length(v2 - v1), u * twiceArea / length(e2),
+                                   v * twiceArea / length(e1)});
+  // The float test decides in the plane perpendicular to the ray, where in-plane distances
+  // shrink by the cosine of the incidence angle: grazing hits are ambiguous over a wider band.
+  const double cosine = std::abs(det) / (twiceArea * length(d));
+  return DoubleHit{t, u, v, inPlane * cosine};
 }
 
 }  // namespace
@@ -80,7 +92,8 @@ ReferenceHit ReferenceIntersector::intersect(const Ray& ray) const {
     const auto h = intersectDouble(o, d, tri.v0, tri.v1, tri.v2);
     if (!h || !std::isfinite(h->t)) continue;
     const double tol = tolerance(ray, h->t);
-    const bool nearEdge = std::abs(h->margin) <= kAmbiguityBand;
+    const double band = tol * length(d);  // the same tolerance in world units
+    const bool nearEdge = std::abs(h->margin) <= band;
     const bool nearEnd = std::abs(h->t - tnear) <= tol || std::abs(h->t - tfar) <= tol;
     const bool inside = h->margin >= 0.0 && h->t >= tnear && h->t <= tfar;
     if ((nearEdge || nearEnd) && h->t >= tnear - tol && h->t <= tfar + tol)
@@ -94,7 +107,8 @@ ReferenceHit ReferenceIntersector::intersect(const Ray& ray) const {
       best.primId = tri.primId;
     }
   }
-  if (nearestAmbiguousT <= best.t + tolerance(ray, best.hit ? best.t : nearestAmbiguousT))
+  if (std::isfinite(nearestAmbiguousT) &&
+      nearestAmbiguousT <= best.t + tolerance(ray, best.hit ? best.t : nearestAmbiguousT))
     best.hitAmbiguous = true;
   if (best.hit) {
     // Pass 2: does another triangle compete within the tolerance?
@@ -102,7 +116,7 @@ ReferenceHit ReferenceIntersector::intersect(const Ray& ray) const {
     for (const Triangle& tri : triangles_) {
       if (tri.instanceId == best.instanceId && tri.primId == best.primId) continue;
       const auto h = intersectDouble(o, d, tri.v0, tri.v1, tri.v2);
-      if (h && h->margin >= -kAmbiguityBand && std::abs(h->t - best.t) <= tol) {
+      if (h && h->margin >= -tol * length(d) && std::abs(h->t - best.t) <= tol) {
         best.primAmbiguous = true;
         break;
       }
@@ -121,13 +135,13 @@ bool ReferenceIntersector::occluded(const Ray& ray, bool* ambiguous) const {
     const double tol = tolerance(ray, h->t);
     const bool inRange = h->t >= tnear && h->t <= tfar;
     const bool nearEnd = std::abs(h->t - tnear) <= tol || std::abs(h->t - tfar) <= tol;
-    const bool nearEdge = std::abs(h->margin) <= kAmbiguityBand;
+    const double band = tol * length(d);
+    const bool nearEdge = std::abs(h->margin) <= band;
     if (h->margin >= 0.0 && inRange && !nearEdge && !nearEnd) {
       sure = true;
       break;
     }
-    if ((nearEdge || nearEnd) && h->t >= tnear - tol && h->t <= tfar + tol &&
-        h->margin >= -kAmbiguityBand)
+    if ((nearEdge || nearEnd) && h->t >= tnear - tol && h->t <= tfar + tol && h->margin >= -band)
       unsure = true;
   }
   if (ambiguous) *ambiguous = !sure && unsure;
@@ -142,7 +156,7 @@ std::optional<double> ReferenceIntersector::intersectTriangle(const Ray& ray,
   if (slot == SIZE_MAX) return std::nullopt;
   const Triangle& tri = triangles_[slot];
   const auto h = intersectDouble(Vec3d(ray.origin), Vec3d(ray.direction), tri.v0, tri.v1, tri.v2);
-  if (!h || h->margin < -kAmbiguityBand) return std::nullopt;
+  if (!h || h->margin < -tolerance(ray, h->t) * length(Vec3d(ray.direction))) return std::nullopt;
   return h->t;
 }
 

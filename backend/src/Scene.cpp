@@ -84,10 +84,13 @@ struct Scene::Impl {
     if (!m.isFinite()) throw Error(std::string(call) + ": matrix has NaN or infinite entries");
     const std::optional<Affine3d> inverse = m.inverse();
     if (!inverse) throw Error(std::string(call) + ": matrix is singular (zero scale?)");
+    const Affine3f toWorldF(m), toObjectF(*inverse);
+    if (!toWorldF.isFinite() || !toObjectF.isFinite())
+      throw Error(std::string(call) + ": matrix or its inverse exceeds the float range");
     inst.objectToWorld = m;
     inst.worldToObject = *inverse;
-    inst.objectToWorldF = Affine3f(m);
-    inst.worldToObjectF = Affine3f(*inverse);
+    inst.objectToWorldF = toWorldF;
+    inst.worldToObjectF = toObjectF;
   }
 };
 
@@ -235,6 +238,7 @@ CommitStats Scene::commit() {
       r.accel = obj.accel.get();
       r.objectToWorld = inst.objectToWorldF;
       r.worldToObject = inst.worldToObjectF;
+      r.worldToObjectD = inst.worldToObject;
       r.identity = inst.objectToWorld == Affine3d::identity();
       r.worldBounds = conservativeFloatBox(inst.objectToWorld.transformBox(
           Box3d(Vec3d(objectBounds.lower), Vec3d(objectBounds.upper))));

@@ -73,6 +73,14 @@ struct ObjectRay {
         tfar(tfar_),
         instanceId(instance),
         objectId(object) {}
+  /// From a double-precision object-space ray (see WatertightRay).
+  ObjectRay(const Vec3d& origin, const Vec3d& direction, float tnear, float tfar_,
+            std::uint32_t instance, std::uint32_t object)
+      : wt(origin, direction, tnear),
+        inverseDirection(1.0f / wt.direction.x, 1.0f / wt.direction.y, 1.0f / wt.direction.z),
+        tfar(tfar_),
+        instanceId(instance),
+        objectId(object) {}
 };
 
 /// Per-query scratch state owned by the thread that traces the ray.

@@ -4,8 +4,9 @@
 /// It reads a committed Scene's meshes and double-precision instance matrices (never its
 /// accelerators or float matrices), flattens every instance into world space in double, and
 /// answers closest-hit and any-hit queries by testing every triangle. Besides the answer it
-/// reports whether the answer is *ambiguous* in float: a hit within a relative 1e-6 of a
-/// triangle edge or of the ray's ends, or two triangles at nearly the same t. Differential tests
+/// reports whether the answer is *ambiguous* in float: a hit within a relative 4e-6 (of the
+/// coordinates' magnitude, measured perpendicular to the ray) of a triangle edge or of the
+/// ray's ends, or two triangles at nearly the same t. Differential tests
 /// compare exactly where the reference is unambiguous and accept either answer where it is not.
 #pragma once
 
@@ -42,7 +43,8 @@ class ReferenceIntersector {
   /// t of the ray against one instanced triangle, if it hits (edges inclusive, no tolerance).
   std::optional<double> intersectTriangle(const Ray& ray, std::uint32_t instanceId,
                                           std::uint32_t primId) const;
-  /// Relative tolerance used for t comparisons and ambiguity (1e-6 of the hit's magnitude).
+  /// Tolerance in t units for comparisons and ambiguity: 4e-6 of the magnitude of the origin
+  /// and hit point, divided by the direction's length.
   static double tolerance(const Ray& ray, double t);
 
   std::size_t triangleCount() const { return triangles_.size(); }

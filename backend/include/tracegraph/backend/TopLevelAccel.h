@@ -18,6 +18,8 @@ struct InstanceRecord {
   const ObjectAccel* accel = nullptr;
   Affine3f objectToWorld;
   Affine3f worldToObject;
+  /// The inverse in double: rays are mapped into object space with it (see intersectInstance).
+  Affine3d worldToObjectD;
   Box3f worldBounds;
   std::uint32_t instanceId = kInvalidId;
   std::uint32_t objectId = kInvalidId;
@@ -60,29 +62,28 @@ class TopLevelAccel {
 std::string_view topLevelKindName(TopLevelKind kind);
 std::unique_ptr<TopLevelAccel> createTopLevelAccel(TopLevelKind kind);
 
-/// Transforms a world ray into the instance's object space (direction not renormalised, so t
-/// stays comparable) and intersects its object. Shared by every top-level accelerator.
+/// Maps a world ray into the instance's object space. The direction is not renormalised, so t
+/// stays comparable across instances. The mapping is done in double with the double inverse
+/// and then rounded once: a float 3x4 inverse would round the origin at the magnitude of the
+/// instance's translation, and t would inherit that error (hard case 7).
+inline ObjectRay objectRayFor(const InstanceRecord& inst, const Ray& ray, float tfar) {
+  if (inst.identity)
+    return ObjectRay(ray.origin, ray.direction, ray.tnear, tfar, inst.instanceId, inst.objectId);
+  return ObjectRay(inst.worldToObjectD.transformPoint(Vec3d(ray.origin)),
+                   inst.worldToObjectD.transformVector(Vec3d(ray.direction)), ray.tnear, tfar,
+                   inst.instanceId, inst.objectId);
+}
+
+/// Intersects one instance's object with a world ray. Shared by every top-level accelerator.
 inline bool intersectInstance(const InstanceRecord& inst, const Ray& ray, Hit& hit,
                               TraversalContext& ctx) {
-  const float tfar = hit.t < ray.tfar ? hit.t : ray.tfar;
-  ObjectRay objectRay =
-      inst.identity
-          ? ObjectRay(ray.origin, ray.direction, ray.tnear, tfar, inst.instanceId, inst.objectId)
-          : ObjectRay(inst.worldToObject.transformPoint(ray.origin),
-                      inst.worldToObject.transformVector(ray.direction), ray.tnear, tfar,
-                      inst.instanceId, inst.objectId);
+  ObjectRay objectRay = objectRayFor(inst, ray, hit.t < ray.tfar ? hit.t : ray.tfar);
   return inst.accel->intersect(objectRay, hit, ctx);
 }
 
 /// Any-hit counterpart of intersectInstance.
 inline bool occludedInstance(const InstanceRecord& inst, const Ray& ray, TraversalContext& ctx) {
-  const ObjectRay objectRay =
-      inst.identity ? ObjectRay(ray.origin, ray.direction, ray.tnear, ray.tfar, inst.instanceId,
-                                inst.objectId)
-                    : ObjectRay(inst.worldToObject.transformPoint(ray.origin),
-                                inst.worldToObject.transformVector(ray.direction), ray.tnear,
-                                ray.tfar, inst.instanceId, inst.objectId);
-  return inst.accel->occluded(objectRay, ctx);
+  return inst.accel->occluded(objectRayFor(inst, ray, ray.tfar), ctx);
 }
 
 }  // namespace tg

@@ -18,13 +18,26 @@ namespace tg {
 struct WatertightRay {
   Vec3f origin;
   Vec3f direction;
+  /// The same ray in double: the world ray mapped by the instance's double inverse matrix. The
+  /// inside test uses the float ray; t is refined on this one (see intersectWatertight).
+  Vec3d originD;
+  Vec3d directionD{0.0, 0.0, 1.0};
   float tnear = 0.0f;
   int kx = 0, ky = 1, kz = 2;  ///< axis permutation: kz = dominant direction axis
   float sx = 0.0f, sy = 0.0f, sz = 1.0f;  ///< shear constants
 
   WatertightRay() = default;
   /// `direction` must be finite and non-zero (the scene rejects other rays before traversal).
-  WatertightRay(const Vec3f& org, const Vec3f& dir, float tnear_) : origin(org), direction(dir), tnear(tnear_) {
+  WatertightRay(const Vec3f& org, const Vec3f& dir, float tnear_)
+      : WatertightRay(org, dir, Vec3d(org), Vec3d(dir), tnear_) {}
+  /// From a double ray (object space of an instance); the float ray is its rounding.
+  WatertightRay(const Vec3d& org, const Vec3d& dir, float tnear_)
+      : WatertightRay(Vec3f(org), Vec3f(dir), org, dir, tnear_) {}
+
+ private:
+  WatertightRay(const Vec3f& org, const Vec3f& dir, const Vec3d& orgD, const Vec3d& dirD,
+                float tnear_)
+      : origin(org), direction(dir), originD(orgD), directionD(dirD), tnear(tnear_) {
     const Vec3f ad = abs(dir);
     kz = maxDimension(ad);
     kx = kz == 2 ? 0 : kz + 1;
@@ -70,13 +83,23 @@ inline bool intersectWatertight(const WatertightRay& ray, const Vec3f& a, const 
   if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
   const float det = U + V + W;
   if (det == 0.0f) return false;
-  const float az = ray.sz * A[ray.kz];
-  const float bz = ray.sz * B[ray.kz];
-  const float cz = ray.sz * C[ray.kz];
-  const float T = U * az + V * bz + W * cz;
+  // The inside test above is what must be watertight; t only needs to be accurate. Woop's
+  // T / det is a weighted average whose weights lose relative precision near edges, which
+  // costs tens of ulps on small, distant triangles. A candidate that passed the inside test is
+  // rare (a few per ray), so its plane distance is recomputed in double from the original
+  // vertices and the double ray: t = n.(a - o) / n.d, accurate to about one ulp except at
+  // grazing incidence, also through instances (the float object-space origin alone would carry
+  // an error of the size of its own magnitude's ulp; hard case 7).
+  const Vec3d da(a);
+  const Vec3d& o = ray.originD;
+  const Vec3d& d = ray.directionD;
+  const Vec3d n = cross(Vec3d(b) - da, Vec3d(c) - da);
+  const double nd = dot(n, d);
+  if (nd == 0.0) return false;  // ray in the triangle's plane: never a hit
+  const auto t = static_cast<float>(dot(n, da - o) / nd);
+  // Also rejects NaN, and t overflowing to infinity.
+  if (!(t >= ray.tnear && t <= tfar && t < kInfinity)) return false;
   const float invDet = 1.0f / det;
-  const float t = T * invDet;
-  if (!(t >= ray.tnear && t <= tfar)) return false;  // also rejects NaN
   out.t = t;
   out.u = V * invDet;
   out.v = W * invDet;

@@ -1,0 +1,134 @@
+// The C++ API rejects bad input with a message naming the call and leaves the scene as it was.
+#define BOOST_TEST_MODULE scene_api
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+
+#include "TestGeometry.h"
+#include "tracegraph/backend/Error.h"
+
+using namespace tg;
+using namespace tg::test;
+
+namespace {
+
+/// Fingerprint of a committed scene: counts plus the hits of a fixed ray set.
+struct Snapshot {
+  std::size_t objects, instances;
+  std::vector<std::tuple<float, std::uint32_t, std::uint32_t>> hits;
+  bool operator==(const Snapshot&) const = default;
+};
+
+Snapshot snapshot(const Scene& scene) {
+  Snapshot s{scene.objectCount(), scene.instanceCount(), {}};
+  std::mt19937 rng(3);
+  for (const Ray& r : makeRays(rng, Box3f({-2, -2, -2}, {4, 4, 4}), 500)) {
+    Hit hit;
+    scene.intersect(r, hit);
+    s.hits.emplace_back(hit.t, hit.instanceId, hit.primId);
+  }
+  return s;
+}
+
+/// Runs `call`, expects tg::Error whose message contains `name`, then checks the scene.
+template <class F>
+void expectRejected(Scene& scene, const std::string& name, F&& call) {
+  const Snapshot before = snapshot(scene);
+  bool thrown = false;
+  try {
+    call();
+  } catch (const Error& e) {
+    thrown = true;
+    BOOST_TEST(std::string(e.what()).find(name) != std::string::npos,
+               "message '" << e.what() << "' should name " << name);
+  }
+  BOOST_TEST(thrown, name << " accepted bad input");
+  scene.commit();
+  BOOST_TEST((snapshot(scene) == before), name << " changed the scene");
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(bad_meshes_are_rejected) {
+  Scene scene;
+  const ObjectId box = scene.createObject(makeBox());
+  scene.createInstance(box, Affine3d::translation({1, 0, 0}));
+  scene.commit();
+  TriangleMesh outOfRange = makeBox();
+  outOfRange.indices[5] = 8;
+  TriangleMesh notTriples = makeBox();
+  notTriples.indices.pop_back();
+  TriangleMesh nan = makeBox();
+  nan.positions[2].y = std::nanf("");
+  TriangleMesh inf = makeBox();
+  inf.positions[1].x = kInfinity;
+  TriangleMesh badNormals = makeBox();
+  badNormals.normals.resize(3);
+  for (const TriangleMesh* m : {&outOfRange, &notTriples, &nan, &inf, &badNormals}) {
+    expectRejected(scene, "Scene::createObject", [&] { scene.createObject(*m); });
+    expectRejected(scene, "Scene::setObjectMesh", [&] { scene.setObjectMesh(box, *m); });
+  }
+  std::vector<Vec3f> points = makeBox().positions;
+  points[0].z = std::nanf("");
+  expectRejected(scene, "Scene::setObjectPositions",
+                 [&] { scene.setObjectPositions(box, points); });
+  points.pop_back();
+  expectRejected(scene, "Scene::setObjectPositions",
+                 [&] { scene.setObjectPositions(box, points); });
+}
+
+BOOST_AUTO_TEST_CASE(unknown_ids_and_bad_matrices_are_rejected) {
+  Scene scene;
+  const ObjectId box = scene.createObject(makeBox());
+  const InstanceId inst = scene.createInstance(box);
+  scene.commit();
+  expectRejected(scene, "Scene::createInstance", [&] { scene.createInstance(42); });
+  expectRejected(scene, "Scene::setInstanceTransform",
+                 [&] { scene.setInstanceTransform(7, Affine3d{}); });
+  expectRejected(scene, "Scene::destroyInstance", [&] { scene.destroyInstance(9); });
+  expectRejected(scene, "Scene::destroyObject", [&] { scene.destroyObject(box); });  // in use
+  Affine3d nan;
+  nan.m[1][3] = std::nan("");
+  expectRejected(scene, "Scene::setInstanceTransform",
+                 [&] { scene.setInstanceTransform(inst, nan); });
+  expectRejected(scene, "Scene::setInstanceTransform", [&] {
+    scene.setInstanceTransform(inst, Affine3d::scaling({1.0, 1.0, 0.0}));
+  });
+  Affine3d rankDeficient;  // third column = first + second
+  rankDeficient.m[0][2] = 1.0;
+  rankDeficient.m[1][2] = 1.0;
+  rankDeficient.m[2][2] = 0.0;
+  expectRejected(scene, "Scene::createInstance",
+                 [&] { scene.createInstance(box, rankDeficient); });
+}
+
+BOOST_AUTO_TEST_CASE(queries_see_only_committed_state) {
+  Scene scene;
+  const ObjectId box = scene.createObject(makeBox());
+  const InstanceId inst = scene.createInstance(box);
+  scene.commit();
+  const Ray r{{0.5f, 0.5f, -1.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, kInfinity};
+  Hit hit;
+  BOOST_TEST(scene.intersect(r, hit));
+  scene.setInstanceTransform(inst, Affine3d::translation({10, 0, 0}));
+  BOOST_TEST(scene.hasPendingChanges());
+  BOOST_TEST(scene.intersect(r, hit));  // still the committed state
+  scene.commit();
+  BOOST_TEST(!scene.intersect(r, hit));
+  scene.destroyInstance(inst);
+  scene.commit();
+  scene.destroyObject(box);
+  BOOST_TEST(scene.objectCount() == 0u);
+  BOOST_TEST(scene.instanceCount() == 0u);
+}
+
+BOOST_AUTO_TEST_CASE(untraceable_rays_never_hit) {
+  Scene scene;
+  scene.createInstance(scene.createObject(makeBox()));
+  scene.commit();
+  Hit hit;
+  BOOST_TEST(!scene.intersect({{0.5f, 0.5f, -1.0f}, 0.0f, {0.0f, 0.0f, 0.0f}, kInfinity}, hit));
+  BOOST_TEST(!scene.intersect({{std::nanf(""), 0.5f, -1.0f}, 0.0f, {0, 0, 1}, kInfinity}, hit));
+  BOOST_TEST(!scene.intersect({{0.5f, 0.5f, -1.0f}, 0.0f, {0, kInfinity, 1}, kInfinity}, hit));
+  BOOST_TEST(!scene.occluded({{0.5f, 0.5f, -1.0f}, 2.0f, {0, 0, 1}, 1.0f}));
+}
