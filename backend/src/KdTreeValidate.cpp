@@ -67,7 +67,7 @@ class Validator {
 
   std::string run() {
     const std::size_t n = triangles_.size();
-    degenerate_.resize(n);
+    degenerate_.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
       const TriangleVertices& t = triangles_[i];
       degenerate_[i] = isDegenerateTriangle(t.v0, t.v1, t.v2);
@@ -155,9 +155,8 @@ class Validator {
     if (k.isLeaf()) {
       const auto begin = tree_.primIndices.begin() + k.firstPrim();
       if (std::find(begin, begin + k.primCount(), triangle_) != begin + k.primCount()) return true;
-      return fail("triangle " + std::to_string(triangle_) + " overlaps the cell " +
-                  describe(cell) + " of leaf " + std::to_string(node) +
-                  " but is not referenced there");
+      return fail("triangle " + std::to_string(triangle_) + " overlaps the cell " + describe(cell) +
+                  " of leaf " + std::to_string(node) + " but is not referenced there");
     }
     const int a = k.axis();
     const double split = static_cast<double>(k.split());
@@ -175,7 +174,7 @@ class Validator {
 
   const KdTree& tree_;
   const std::vector<TriangleVertices>& triangles_;
-  std::vector<bool> degenerate_;
+  std::vector<std::uint8_t> degenerate_;
   std::vector<std::uint8_t> seen_;
   std::vector<std::uint32_t> stamp_;  ///< leaf node + 1 that last referenced each triangle
   Vec3d tri_[3];

@@ -17,6 +17,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <vector>
 
 #include "tracegraph/backend/Error.h"
@@ -53,7 +55,42 @@ inline Event makeEvent(float pos, std::uint32_t type, std::uint32_t triangle) {
   return {pos, (type << kTriangleBits) | triangle};
 }
 
-using EventLists = std::array<std::vector<Event>, 3>;
+/// A growable array of events that, unlike std::vector, does not zero what it allocates: the
+/// split writes every child list in full, so zeroing would only add a pass over memory.
+class EventList {
+ public:
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  Event* data() { return data_.get(); }
+  const Event* data() const { return data_.get(); }
+  const Event* begin() const { return data_.get(); }
+  const Event* end() const { return data_.get() + size_; }
+  const Event& operator[](std::size_t i) const { return data_[i]; }
+
+  void clear() { size_ = 0; }
+  /// Makes room for `capacity` events, keeping the current ones.
+  void reserve(std::size_t capacity) {
+    if (capacity <= capacity_) return;
+    capacity = std::max(capacity, capacity_ + capacity_ / 2);
+    auto grown = std::make_unique_for_overwrite<Event[]>(capacity);
+    std::copy(begin(), end(), grown.get());
+    data_ = std::move(grown);
+    capacity_ = capacity;
+  }
+  /// Sets the size after writing through data(); `size` must not exceed the capacity.
+  void setSize(std::size_t size) { size_ = size; }
+  void push_back(const Event& e) {
+    if (size_ == capacity_) reserve(std::max<std::size_t>(16, 2 * capacity_));
+    data_[size_++] = e;
+  }
+  void sort() { std::sort(data_.get(), data_.get() + size_); }
+
+ private:
+  std::unique_ptr<Event[]> data_;
+  std::size_t size_ = 0, capacity_ = 0;
+};
+
+using EventLists = std::array<EventList, 3>;
 
 /// Appends the events of bounds `b` of `triangle`: one planar event on an axis where the bounds
 /// are flat, a start and an end event elsewhere.
@@ -68,30 +105,61 @@ inline void appendEvents(EventLists& lists, const Box3f& b, std::uint32_t triang
   }
 }
 
+/// Merges the sorted `extra` into the sorted first `size` events of `list`, which has room for
+/// both, from the back: only events after the first new one move.
+void mergeInto(Event* list, std::size_t size, const EventList& extra) {
+  std::size_t a = size, b = extra.size(), w = size + extra.size();
+  while (b > 0) {
+    if (a > 0 && extra[b - 1] < list[a - 1]) {
+      list[--w] = list[--a];
+    } else {
+      list[--w] = extra[--b];
+    }
+  }
+}
+
 /// Convex polygon for Sutherland–Hodgman clipping. A triangle clipped by six planes has at most
 /// nine vertices; the spare room absorbs the extra crossings rounding can add to a sliver.
 struct Polygon {
   static constexpr int kCapacity = 16;
   Vec3d v[kCapacity];
+  std::uint8_t exact[kCapacity];  ///< bit a: coordinate a carries no rounding error
   int n = 0;
 };
 
 /// Keeps the part of `in` with coordinate `axis` >= bound (keepAbove) or <= bound. Returns false
 /// when the output would overflow (only possible for numerically degenerate input).
+///
+/// Coordinates are tracked as exact when they are the triangle's own, the clip plane's, or shared
+/// by both ends of the clipped edge. Only the others get a rounding margin in the bounds, so that
+/// a bound reached at a vertex stays on the vertex and does not turn into a new candidate plane a
+/// few ulps beside it.
 bool clipPolygon(const Polygon& in, Polygon& out, int axis, double bound, bool keepAbove) {
   out.n = 0;
   for (int i = 0; i < in.n; ++i) {
+    const int j = i + 1 == in.n ? 0 : i + 1;
     const Vec3d& a = in.v[i];
-    const Vec3d& b = in.v[i + 1 == in.n ? 0 : i + 1];
-    const bool insideA = keepAbove ? a[axis] >= bound : a[axis] <= bound;
-    const bool insideB = keepAbove ? b[axis] >= bound : b[axis] <= bound;
+    const Vec3d& b = in.v[j];
+    const double da = keepAbove ? a[axis] - bound : bound - a[axis];
+    const double db = keepAbove ? b[axis] - bound : bound - b[axis];
     if (out.n + 2 > Polygon::kCapacity) return false;
-    if (insideA) out.v[out.n++] = a;
-    if (insideA != insideB) {
+    if (da >= 0.0) {
+      out.v[out.n] = a;
+      out.exact[out.n++] = in.exact[i];
+    }
+    // A crossing strictly between the ends; an end on the plane is itself kept.
+    if ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) {
       const double t = (bound - a[axis]) / (b[axis] - a[axis]);
       Vec3d p = a + (b - a) * t;
+      std::uint8_t exact = static_cast<std::uint8_t>(1u << axis);
       p[axis] = bound;  // exactly on the plane, whatever the rounding of t
-      out.v[out.n++] = p;
+      for (int c = 0; c < 3; ++c) {
+        if (c == axis || a[c] != b[c]) continue;
+        p[c] = a[c];
+        exact |= in.exact[i] & in.exact[j] & (1u << c);
+      }
+      out.v[out.n] = p;
+      out.exact[out.n++] = exact;
     }
   }
   return true;
@@ -111,11 +179,16 @@ inline float roundUp(double x) {
   return f;
 }
 
-/// Which child(ren) a triangle goes to during a split.
-constexpr std::uint8_t kLeftOnly = 1;
-constexpr std::uint8_t kRightOnly = 2;
-constexpr std::uint8_t kBoth = 3;         ///< reaches both children: clipped to each
-constexpr std::uint8_t kBothPlanar = 4;   ///< lies in the plane: same bounds in both children
+/// Where a triangle goes during a split. Those that keep their bounds on a side (they lie
+/// within that child's cell) copy their events there; the others get new events from a clip.
+constexpr std::uint8_t kLeftOnly = 0;    ///< ends before the plane
+constexpr std::uint8_t kRightOnly = 1;   ///< starts after the plane
+constexpr std::uint8_t kInPlane = 2;     ///< flat in the plane: same bounds on both sides
+constexpr std::uint8_t kLeftTouch = 3;   ///< ends on the plane: keeps left, clipped right
+constexpr std::uint8_t kRightTouch = 4;  ///< starts on the plane: keeps right, clipped left
+constexpr std::uint8_t kStraddles = 5;   ///< spans the plane: clipped on both sides
+constexpr std::uint8_t kKeepLeft[6] = {1, 0, 1, 1, 0, 0};
+constexpr std::uint8_t kKeepRight[6] = {0, 1, 1, 0, 1, 0};
 
 struct Split {
   int axis = 0;
@@ -132,7 +205,7 @@ class SahBuilder {
     const std::size_t n = triangles_.size();
     if (n > kTriangleMask) throw Error("buildSahKdTree: more than 2^30 - 1 triangles");
     EventLists root;
-    for (auto& list : root) list.reserve(2 * n);
+    for (auto& list : root) list.reserve(2 * n + 1);
     std::uint32_t count = 0;
     Box3f bounds;
     for (std::size_t i = 0; i < n; ++i) {
@@ -155,21 +228,20 @@ class SahBuilder {
       tree_.stats.nodes = tree_.stats.leaves = tree_.stats.emptyLeaves = 1;
       return;
     }
-    for (auto& list : root) std::sort(list.begin(), list.end());
+    for (auto& list : root) list.sort();
 
     // Clipping runs in double; the margin bounds its rounding (a few ulps of the largest
     // coordinate per clip plane) with ample room, and stays far below float resolution.
-    const double scale = std::max(maxComponent(abs(Vec3d(bounds.lower))),
-                                  maxComponent(abs(Vec3d(bounds.upper))));
+    const double scale =
+        std::max(maxComponent(abs(Vec3d(bounds.lower))), maxComponent(abs(Vec3d(bounds.upper))));
     margin_ = scale * 0x1p-45;
 
-    maxDepth_ = options_.maxDepth > 0
-                    ? std::min(options_.maxDepth, kKdMaxDepth)
-                    : std::min(kKdMaxDepth,
-                               static_cast<int>(8.0 + 1.3 * std::log2(static_cast<double>(count))));
+    const double log2n = std::log2(static_cast<double>(count));
+    maxDepth_ = std::min(kKdMaxDepth, options_.maxDepth > 0 ? options_.maxDepth
+                                                            : static_cast<int>(8.0 + 1.3 * log2n));
     side_.assign(n, 0);
     levels_.resize(static_cast<std::size_t>(maxDepth_) + 1);
-    tree_.nodes.reserve(static_cast<std::size_t>(count) / 2 + 1);
+    tree_.nodes.reserve(static_cast<std::size_t>(count) + 1);
     tree_.primIndices.reserve(static_cast<std::size_t>(count) * 2);
     build(root, bounds, count, 0);
   }
@@ -195,8 +267,8 @@ class SahBuilder {
     std::uint32_t leftCount = 0, rightCount = 0;
     splitEvents(events, split, leftCell, rightCell, level, leftCount, rightCount);
     build(level.left, leftCell, leftCount, depth + 1);
-    tree_.nodes[nodeIndex] = KdNode::makeInner(
-        split.axis, split.pos, static_cast<std::uint32_t>(tree_.nodes.size()));
+    tree_.nodes[nodeIndex] =
+        KdNode::makeInner(split.axis, split.pos, static_cast<std::uint32_t>(tree_.nodes.size()));
     build(level.right, rightCell, rightCount, depth + 1);
   }
 
@@ -218,7 +290,7 @@ class SahBuilder {
       const float lo = cell.lower[k], hi = cell.upper[k];
       const float cross = d[(k + 1) % 3] * d[(k + 2) % 3];
       const float sum = d[(k + 1) % 3] + d[(k + 2) % 3];
-      const std::vector<Event>& list = events[k];
+      const EventList& list = events[k];
       const std::size_t size = list.size();
       // Triangles with (clipped) bounds [lo, hi] go left when lo <= p and right when hi >= p.
       std::uint32_t startedBefore = 0, endedBefore = 0;
@@ -257,125 +329,161 @@ class SahBuilder {
                    std::uint32_t& rightCount) {
     const int k = split.axis;
     const float p = split.pos;
-    const std::vector<Event>& axisEvents = events[k];
-    for (const Event& e : axisEvents) side_[e.triangle()] = kBoth;
-    straddling_.clear();
+    const EventList& axisEvents = events[k];
+    // Events are sorted, so a triangle's start comes before its end.
+    clipped_.clear();
+    std::uint32_t kept[6] = {0, 0, 0, 0, 0, 0};
     for (const Event& e : axisEvents) {
-      std::uint8_t& s = side_[e.triangle()];
+      const std::uint32_t t = e.triangle();
+      std::uint8_t& s = side_[t];
       switch (e.type()) {
+        case kStart:
+          s = e.pos > p ? kRightOnly : (e.pos == p ? kRightTouch : kStraddles);
+          break;
         case kEnd:
           if (e.pos < p) {
             s = kLeftOnly;
-          } else if (s == kBoth) {
-            straddling_.push_back(e.triangle());  // started at or before p: reaches both sides
+          } else {
+            if (s == kStraddles && e.pos == p) s = kLeftTouch;
+            if (s != kRightOnly) clipped_.push_back(t);
           }
-          break;
-        case kStart:
-          if (e.pos > p) s = kRightOnly;
+          ++kept[s];
           break;
         default:  // planar
-          s = e.pos < p ? kLeftOnly : (e.pos > p ? kRightOnly : kBothPlanar);
+          s = e.pos < p ? kLeftOnly : (e.pos > p ? kRightOnly : kInPlane);
+          ++kept[s];
           break;
       }
     }
-    std::uint32_t leftOnly = 0, rightOnly = 0, inPlane = 0;
-    for (const Event& e : axisEvents) {
-      if (e.type() == kEnd) continue;  // count each triangle once, at its start or planar event
-      const std::uint8_t s = side_[e.triangle()];
-      leftOnly += s == kLeftOnly;
-      rightOnly += s == kRightOnly;
-      inPlane += s == kBothPlanar;
-    }
 
-    // Perfect splits: new bounds from the straddling triangles' polygons clipped to each child.
+    // Perfect splits: bounds of the triangles reaching a child whose cell does not contain their
+    // current bounds, from their polygon clipped to that child's cell.
     for (int a = 0; a < 3; ++a) {
       newLeft_[a].clear();
       newRight_[a].clear();
     }
-    std::uint32_t bothLeft = 0, bothRight = 0;
-    for (const std::uint32_t t : straddling_) {
+    std::uint32_t clippedLeft = 0, clippedRight = 0;
+    for (const std::uint32_t t : clipped_) {
+      const std::uint8_t s = side_[t];
       Box3f lb, rb;
-      bool inLeft = clipToCell(t, leftCell, lb);
-      bool inRight = clipToCell(t, rightCell, rb);
-      if (!inLeft && !inRight) {
-        // Cannot happen in exact arithmetic (the triangle overlaps the parent cell); keep the
-        // triangle in both children rather than lose it.
-        lb = boxInCell(t, leftCell);
-        rb = boxInCell(t, rightCell);
-        inLeft = inRight = true;
-      }
+      const bool inLeft = s != kLeftTouch && clipToCell(t, leftCell, lb);
+      const bool inRight = s != kRightTouch && clipToCell(t, rightCell, rb);
       if (inLeft) {
         appendEvents(newLeft_, lb, t);
-        ++bothLeft;
+        ++clippedLeft;
       }
       if (inRight) {
         appendEvents(newRight_, rb, t);
-        ++bothRight;
+        ++clippedRight;
+      }
+      if (s == kStraddles && !inLeft && !inRight) {
+        // Cannot happen in exact arithmetic (the triangle overlaps the parent cell); keep the
+        // triangle on both sides rather than lose it.
+        appendEvents(newLeft_, boxInCell(t, leftCell), t);
+        appendEvents(newRight_, boxInCell(t, rightCell), t);
+        ++clippedLeft;
+        ++clippedRight;
       }
     }
-    leftCount = leftOnly + inPlane + bothLeft;
-    rightCount = rightOnly + inPlane + bothRight;
+    leftCount = kept[kLeftOnly] + kept[kInPlane] + kept[kLeftTouch] + clippedLeft;
+    rightCount = kept[kRightOnly] + kept[kInPlane] + kept[kRightTouch] + clippedRight;
 
     for (int a = 0; a < 3; ++a) {
-      std::vector<Event>& newL = newLeft_[a];
-      std::vector<Event>& newR = newRight_[a];
-      std::sort(newL.begin(), newL.end());
-      std::sort(newR.begin(), newR.end());
-      std::vector<Event>& outL = level.left[a];
-      std::vector<Event>& outR = level.right[a];
+      EventList& newL = newLeft_[a];
+      EventList& newR = newRight_[a];
+      newL.sort();
+      newR.sort();
+      const EventList& in = events[a];
+      EventList& outL = level.left[a];
+      EventList& outR = level.right[a];
       outL.clear();
       outR.clear();
-      std::size_t il = 0, ir = 0;
-      for (const Event& e : events[a]) {
+      outL.reserve(in.size() + newL.size());
+      outR.reserve(in.size() + newR.size());
+      // Every event is written to both lists and kept where its triangle goes: which side that
+      // is has nothing to do with the order on this axis, so a branch would mispredict often.
+      Event* l = outL.data();
+      Event* r = outR.data();
+      std::size_t nl = 0, nr = 0;
+      for (const Event& e : in) {
         const std::uint8_t s = side_[e.triangle()];
-        if (s == kLeftOnly) {
-          while (il < newL.size() && newL[il] < e) outL.push_back(newL[il++]);
-          outL.push_back(e);
-        } else if (s == kRightOnly) {
-          while (ir < newR.size() && newR[ir] < e) outR.push_back(newR[ir++]);
-          outR.push_back(e);
-        } else if (s == kBothPlanar) {
-          // Flat at p on the split axis and unchanged on the others: valid in both cells.
-          while (il < newL.size() && newL[il] < e) outL.push_back(newL[il++]);
-          outL.push_back(e);
-          while (ir < newR.size() && newR[ir] < e) outR.push_back(newR[ir++]);
-          outR.push_back(e);
-        }
+        l[nl] = e;
+        nl += kKeepLeft[s];
+        r[nr] = e;
+        nr += kKeepRight[s];
       }
-      outL.insert(outL.end(), newL.begin() + static_cast<std::ptrdiff_t>(il), newL.end());
-      outR.insert(outR.end(), newR.begin() + static_cast<std::ptrdiff_t>(ir), newR.end());
+      mergeInto(l, nl, newL);
+      mergeInto(r, nr, newR);
+      outL.setSize(nl + newL.size());
+      outR.setSize(nr + newR.size());
     }
   }
 
   /// Bounds of triangle `t` clipped to `cell`, conservative: every point of the exact
-  /// intersection lies inside. The clip planes are pushed out by the margin, so that rounding in
-  /// the clip can only keep too much, never lose a piece. Returns false when nothing is left.
+  /// intersection lies inside. Returns false when nothing is left.
   bool clipToCell(std::uint32_t t, const Box3f& cell, Box3f& out) const {
-    const TriangleVertices& tri = triangles_[t];
-    Polygon a, b;
-    a.n = 3;
-    a.v[0] = Vec3d(tri.v0);
-    a.v[1] = Vec3d(tri.v1);
-    a.v[2] = Vec3d(tri.v2);
-    for (int axis = 0; axis < 3 && a.n > 0; ++axis) {
-      if (!clipPolygon(a, b, axis, static_cast<double>(cell.lower[axis]) - margin_, true) ||
-          !clipPolygon(b, a, axis, static_cast<double>(cell.upper[axis]) + margin_, false)) {
+    // Rounding in the clip can make a sliver along a face vanish; before dropping the triangle,
+    // clip again with the planes pushed out by the margin, which can only keep too much.
+    for (const double push : {0.0, margin_}) {
+      Polygon bufferA, bufferB;
+      const Polygon* clipped = nullptr;
+      const ClipResult r = clipTriangle(t, cell, push, bufferA, bufferB, clipped);
+      if (r == ClipResult::kOverflow) {
         out = boxInCell(t, cell);
         return true;
       }
+      if (r == ClipResult::kEmpty) continue;
+      const Polygon& poly = *clipped;
+      constexpr double kInf = std::numeric_limits<double>::infinity();
+      Vec3d lo{kInf, kInf, kInf}, hi = -lo;
+      for (int i = 0; i < poly.n; ++i) {
+        for (int a = 0; a < 3; ++a) {
+          const double slack = (poly.exact[i] >> a) & 1u ? 0.0 : margin_;
+          lo[a] = std::min(lo[a], poly.v[i][a] - slack);
+          hi[a] = std::max(hi[a], poly.v[i][a] + slack);
+        }
+      }
+      for (int a = 0; a < 3; ++a) {
+        // Clamping both ends into the cell keeps lower <= upper.
+        out.lower[a] = std::clamp(roundDown(lo[a]), cell.lower[a], cell.upper[a]);
+        out.upper[a] = std::clamp(roundUp(hi[a]), cell.lower[a], cell.upper[a]);
+      }
+      return true;
     }
-    if (a.n == 0) return false;
-    Vec3d lo = a.v[0], hi = a.v[0];
-    for (int i = 1; i < a.n; ++i) {
-      lo = min(lo, a.v[i]);
-      hi = max(hi, a.v[i]);
+    return false;
+  }
+
+  enum class ClipResult { kEmpty, kNonEmpty, kOverflow };
+
+  /// Sutherland–Hodgman clip of triangle `t` against `cell` grown by `push` on every side.
+  /// The result is in `out` or in `scratch`; returns which through `result`.
+  ClipResult clipTriangle(std::uint32_t t, const Box3f& cell, double push, Polygon& out,
+                          Polygon& scratch, const Polygon*& result) const {
+    const TriangleVertices& tri = triangles_[t];
+    Polygon* cur = &out;
+    Polygon* next = &scratch;
+    cur->n = 3;
+    cur->v[0] = Vec3d(tri.v0);
+    cur->v[1] = Vec3d(tri.v1);
+    cur->v[2] = Vec3d(tri.v2);
+    cur->exact[0] = cur->exact[1] = cur->exact[2] = 7;
+    for (int axis = 0; axis < 3 && cur->n > 0; ++axis) {
+      // The polygon lies within the triangle: a plane the whole triangle is inside cuts nothing.
+      const float lo = std::min({tri.v0[axis], tri.v1[axis], tri.v2[axis]});
+      const float hi = std::max({tri.v0[axis], tri.v1[axis], tri.v2[axis]});
+      const double lower = static_cast<double>(cell.lower[axis]) - push;
+      const double upper = static_cast<double>(cell.upper[axis]) + push;
+      if (static_cast<double>(lo) < lower) {
+        if (!clipPolygon(*cur, *next, axis, lower, true)) return ClipResult::kOverflow;
+        std::swap(cur, next);
+      }
+      if (static_cast<double>(hi) > upper) {
+        if (!clipPolygon(*cur, *next, axis, upper, false)) return ClipResult::kOverflow;
+        std::swap(cur, next);
+      }
     }
-    for (int axis = 0; axis < 3; ++axis) {
-      // Clamping both ends into the cell keeps lower <= upper.
-      out.lower[axis] = std::clamp(roundDown(lo[axis] - margin_), cell.lower[axis], cell.upper[axis]);
-      out.upper[axis] = std::clamp(roundUp(hi[axis] + margin_), cell.lower[axis], cell.upper[axis]);
-    }
-    return true;
+    result = cur;
+    return cur->n > 0 ? ClipResult::kNonEmpty : ClipResult::kEmpty;
   }
 
   /// The triangle's bounding box clamped into `cell` (conservative fallback for clipping).
@@ -392,7 +500,7 @@ class SahBuilder {
     return b;
   }
 
-  void makeLeaf(std::uint32_t nodeIndex, const std::vector<Event>& events, int depth) {
+  void makeLeaf(std::uint32_t nodeIndex, const EventList& events, int depth) {
     const auto first = static_cast<std::uint32_t>(tree_.primIndices.size());
     for (const Event& e : events)
       if (e.type() != kEnd) tree_.primIndices.push_back(e.triangle());
@@ -411,10 +519,10 @@ class SahBuilder {
   KdTree& tree_;
   double margin_ = 0.0;
   int maxDepth_ = 0;
-  std::vector<std::uint8_t> side_;           ///< per triangle, valid during one split
-  std::vector<Level> levels_;                ///< children's event lists, reused per depth
-  std::vector<std::uint32_t> straddling_;    ///< triangles spanning the current plane
-  EventLists newLeft_, newRight_;            ///< events of the straddling triangles' pieces
+  std::vector<std::uint8_t> side_;      ///< per triangle, valid during one split
+  std::vector<Level> levels_;           ///< children's event lists, reused per depth
+  std::vector<std::uint32_t> clipped_;  ///< triangles the current split clips
+  EventLists newLeft_, newRight_;       ///< events of the straddling triangles' pieces
 };
 
 }  // namespace

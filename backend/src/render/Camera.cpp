@@ -1,0 +1,65 @@
+#include "tracegraph/backend/render/Camera.h"
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "tracegraph/backend/Error.h"
+
+namespace tg {
+
+Camera::Camera(const CameraParams& params) : params_(params) {
+  if (!isFinite(params.eye) || !isFinite(params.viewDirection) || !isFinite(params.up))
+    throw Error("Camera: eye, view direction and up must be finite");
+  if (!(params.fovYDegrees > 0.0f && params.fovYDegrees < 180.0f))
+    throw Error("Camera: vertical field of view " + std::to_string(params.fovYDegrees) +
+                " is not in (0, 180) degrees");
+  if (!(params.hither >= 0.0f) || !std::isfinite(params.hither))
+    throw Error("Camera: hither must be finite and >= 0");
+  if (params.width == 0 || params.height == 0) throw Error("Camera: image size is zero");
+  const Vec3d view(params.viewDirection);
+  const double viewLength = length(view);
+  if (!(viewLength > 0.0)) throw Error("Camera: view direction is zero");
+  forward_ = view / viewLength;
+  const Vec3d side = cross(forward_, Vec3d(params.up));
+  const double sideLength = length(side);
+  // Relative test: `up` nearly parallel to the view leaves the roll undefined.
+  if (!(sideLength > 1e-9 * length(Vec3d(params.up))))
+    throw Error("Camera: up vector is zero or parallel to the view direction");
+  right_ = side / sideLength;
+  upAxis_ = cross(right_, forward_);
+  halfHeight_ = std::tan(static_cast<double>(params.fovYDegrees) * std::numbers::pi / 360.0);
+  halfWidth_ = halfHeight_ * static_cast<double>(params.width) / static_cast<double>(params.height);
+}
+
+Camera Camera::lookAt(const Vec3f& eye, const Vec3f& target, const Vec3f& up, float fovYDegrees,
+                      std::uint32_t width, std::uint32_t height, float hither) {
+  CameraParams p;
+  p.eye = eye;
+  p.viewDirection = target - eye;
+  p.up = up;
+  p.fovYDegrees = fovYDegrees;
+  p.width = width;
+  p.height = height;
+  p.hither = hither;
+  return Camera(p);
+}
+
+Ray Camera::primaryRay(std::uint32_t x, std::uint32_t y) const {
+  return primaryRayAt(static_cast<double>(x) + 0.5, static_cast<double>(y) + 0.5);
+}
+
+Ray Camera::primaryRayAt(double px, double py) const {
+  // Normalised device coordinates in [-1, 1]; y flips because row 0 is the top row.
+  const double sx = (2.0 * px / static_cast<double>(params_.width) - 1.0) * halfWidth_;
+  const double sy = (1.0 - 2.0 * py / static_cast<double>(params_.height)) * halfHeight_;
+  const Vec3d d = forward_ + right_ * sx + upAxis_ * sy;
+  Ray ray;
+  ray.origin = params_.eye;
+  ray.direction = Vec3f(d / length(d));
+  ray.tnear = params_.hither;
+  ray.tfar = kInfinity;
+  return ray;
+}
+
+}  // namespace tg

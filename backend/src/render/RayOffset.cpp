@@ -1,0 +1,84 @@
+#include "tracegraph/backend/render/RayOffset.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tg {
+namespace {
+
+constexpr float kUnitRoundoff = 0x1p-24f;  // half an ulp of 1
+
+float maxAbs(const Vec3f& v) {
+  return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+}
+double maxAbs(const Vec3d& v) {
+  return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+}
+
+}  // namespace
+
+SurfacePoint refineHitPoint(const Scene& scene, const Ray& ray, const Hit& hit) {
+  SurfacePoint sp;
+  sp.geometricNormal = hit.geometricNormal;
+  const TriangleMesh& mesh = scene.objectMesh(hit.objectId);
+  const Affine3d& toWorld = scene.instanceTransform(hit.instanceId);
+  Vec3d v[3];
+  double magnitude = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    v[k] = toWorld.transformPoint(Vec3d(mesh.positions[mesh.indices[3 * hit.primId + k]]));
+    magnitude = std::max(magnitude, maxAbs(v[k]));
+  }
+  // o + t d in double, then projected onto the triangle's plane: the error of t (which grows
+  // with the distance travelled and the size of the triangle) only slides the point within the
+  // plane, where it does no harm.
+  Vec3d p = Vec3d(ray.origin) + Vec3d(ray.direction) * static_cast<double>(hit.t);
+  const Vec3d n = cross(v[1] - v[0], v[2] - v[0]);
+  const double nn = dot(n, n);
+  if (nn > 0.0 && std::isfinite(nn)) p = p - n * (dot(p - v[0], n) / nn);
+  sp.position = Vec3f(p);
+  magnitude = std::max(magnitude, static_cast<double>(maxAbs(sp.position)));
+  sp.error = kOffsetUlps * kUnitRoundoff * static_cast<float>(magnitude);
+  return sp;
+}
+
+Vec3f offsetRayOrigin(const SurfacePoint& sp, const Vec3f& w) {
+  const Vec3f& n = sp.geometricNormal;
+  const float distance = sp.error * (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+  Vec3f offset = n * distance;
+  if (dot(w, n) < 0.0f) offset = -offset;
+  Vec3f o = sp.position + offset;
+  // The addition itself rounds; step one more ulp outwards so it can only round away.
+  for (int i = 0; i < 3; ++i) {
+    if (offset[i] > 0.0f)
+      o[i] = std::nextafter(o[i], kInfinity);
+    else if (offset[i] < 0.0f)
+      o[i] = std::nextafter(o[i], -kInfinity);
+  }
+  return o;
+}
+
+Ray spawnRay(const SurfacePoint& sp, const Vec3f& w) {
+  Ray r;
+  r.origin = offsetRayOrigin(sp, w);
+  r.direction = w;
+  r.tnear = 0.0f;
+  r.tfar = kInfinity;
+  return r;
+}
+
+Ray spawnRayTo(const SurfacePoint& sp, const Vec3f& target) {
+  Ray r;
+  r.origin = offsetRayOrigin(sp, target - sp.position);
+  r.direction = target - r.origin;
+  r.tnear = 0.0f;
+  // Stop short of the target by a bound of the same kind as the origin offset, relative to the
+  // larger of the two magnitudes, plus a few ulps for the rounding of t itself.
+  const float magnitude = std::max(maxAbs(target), maxAbs(r.origin));
+  const float len = length(r.direction);
+  const float shortfall =
+      len > 0.0f ? kOffsetUlps * kUnitRoundoff * magnitude / len + 4.0f * kUnitRoundoff : 1.0f;
+  r.tfar = std::max(0.0f, 1.0f - shortfall);
+  return r;
+}
+
+}  // namespace tg

@@ -1,0 +1,172 @@
+#include "tracegraph/backend/render/Renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#if defined(__SSE__) || defined(_M_X64)
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+#define TG_HAVE_MXCSR 1
+#endif
+
+#include "Shader.h"
+#include "tracegraph/backend/Error.h"
+
+namespace tg {
+namespace {
+
+constexpr std::string_view kModeNames[] = {"opengl", "whitted", "normals", "classes", "instances"};
+
+/// Flushes denormals to zero for the lifetime of the object and then restores the previous
+/// floating-point mode. Scoped per tile rather than set once per worker thread: tasks may run
+/// on the calling thread, whose mode must come back unchanged, and every tile computes under
+/// the same mode whichever thread runs it, which keeps images thread-count independent.
+class FlushDenormalsScope {
+ public:
+  explicit FlushDenormalsScope(bool enable) {
+#ifdef TG_HAVE_MXCSR
+    if (!enable) return;
+    saved_ = _mm_getcsr();
+    active_ = true;
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+#else
+    (void)enable;
+#endif
+  }
+  ~FlushDenormalsScope() {
+#ifdef TG_HAVE_MXCSR
+    if (active_) _mm_setcsr(saved_);
+#endif
+  }
+  FlushDenormalsScope(const FlushDenormalsScope&) = delete;
+  FlushDenormalsScope& operator=(const FlushDenormalsScope&) = delete;
+
+ private:
+  unsigned saved_ = 0;
+  bool active_ = false;
+};
+
+/// Pixels [x0, x1) x [y0, y1) of the image.
+struct TileRect {
+  std::uint32_t x0, y0, x1, y1;
+};
+
+/// What one tile counted.
+struct TileResult {
+  detail::TileCounters counters;
+  std::uint64_t triangleTests = 0, nodeVisits = 0;
+};
+
+/// Traces and shades every pixel of `rect`, writing only those pixels of `frame`.
+TileResult renderTile(const detail::Shader& shader, const Camera& camera, bool aovs,
+                      const TileRect& rect, Frame& frame) {
+  TileResult result;
+  TraversalContext ctx;
+  for (std::uint32_t y = rect.y0; y < rect.y1; ++y) {
+    for (std::uint32_t x = rect.x0; x < rect.x1; ++x) {
+      const detail::PixelSample s =
+          shader.shadePrimary(camera.primaryRay(x, y), ctx, result.counters);
+      frame.beauty.setRgb(x, y, s.color);
+      if (aovs) {
+        frame.depth.at(x, y) = s.depth;
+        frame.normal.setRgb(x, y, s.normal);
+        frame.instanceId.at(x, y) = s.instanceId;
+        frame.primId.at(x, y) = s.primId;
+      }
+    }
+  }
+  result.triangleTests = ctx.triangleTests;
+  result.nodeVisits = ctx.nodeVisits;
+  return result;
+}
+
+void checkSettings(const RenderSettings& s) {
+  if (s.tileSize == 0) throw Error("Renderer::render: tile size is 0");
+  if (s.maxDepth < 0) throw Error("Renderer::render: negative maximum depth");
+  if (!(s.minWeight >= 0.0f)) throw Error("Renderer::render: ray-weight cutoff is negative or NaN");
+  if (static_cast<std::size_t>(s.mode) >= std::size(kModeNames))
+    throw Error("Renderer::render: unknown mode");
+}
+
+}  // namespace
+
+std::string_view renderModeName(RenderMode mode) {
+  const auto i = static_cast<std::size_t>(mode);
+  return i < std::size(kModeNames) ? kModeNames[i] : "unknown";
+}
+
+std::optional<RenderMode> parseRenderMode(std::string_view name) {
+  for (std::size_t i = 0; i < std::size(kModeNames); ++i)
+    if (kModeNames[i] == name) return static_cast<RenderMode>(i);
+  return std::nullopt;
+}
+
+RenderStats Renderer::render(const RenderScene& scene, const Camera& camera, Frame& frame) const {
+  checkSettings(settings_);
+  const std::string problem = scene.validate();
+  if (!problem.empty()) throw Error("Renderer::render: " + problem);
+
+  const std::uint32_t w = camera.width(), h = camera.height();
+  frame.beauty = Image(w, h, 3);
+  if (settings_.aovs) {
+    frame.depth = Image(w, h, 1, kInfinity);
+    frame.normal = Image(w, h, 3);
+    frame.instanceId = IdImage(w, h, kInvalidId);
+    frame.primId = IdImage(w, h, kInvalidId);
+  } else {
+    frame.depth = Image();
+    frame.normal = Image();
+    frame.instanceId = IdImage();
+    frame.primId = IdImage();
+  }
+
+  const detail::Shader shader(scene, settings_);
+  const std::uint32_t ts = settings_.tileSize;
+  const std::uint32_t tilesX = (w + ts - 1) / ts, tilesY = (h + ts - 1) / ts;
+  const std::size_t tileCount = static_cast<std::size_t>(tilesX) * tilesY;
+  // One slot per tile, written once by the task that rendered it and summed afterwards in
+  // tile order: integer sums, so the totals do not depend on the thread count either.
+  std::vector<TileResult> results(tileCount);
+
+  const auto start = std::chrono::steady_clock::now();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tileCount, 1),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      const FlushDenormalsScope flush(settings_.flushDenormals);
+                      for (std::size_t tile = range.begin(); tile != range.end(); ++tile) {
+                        const std::uint32_t x0 = static_cast<std::uint32_t>(tile % tilesX) * ts;
+                        const std::uint32_t y0 = static_cast<std::uint32_t>(tile / tilesX) * ts;
+                        const TileRect rect{x0, y0, std::min(x0 + ts, w), std::min(y0 + ts, h)};
+                        results[tile] = renderTile(shader, camera, settings_.aovs, rect, frame);
+                      }
+                    });
+  const auto end = std::chrono::steady_clock::now();
+
+  RenderStats stats;
+  stats.width = w;
+  stats.height = h;
+  stats.threads = tbb::this_task_arena::max_concurrency();
+  stats.traceShadeMs = std::chrono::duration<double, std::milli>(end - start).count();
+  for (const TileResult& r : results) {
+    stats.traced += r.counters.traced;
+    stats.saved += r.counters.saved;
+    stats.depthLimited += r.counters.depthLimited;
+    stats.weightCutoff += r.counters.weightCutoff;
+    stats.totalInternalReflections += r.counters.totalInternalReflections;
+    stats.triangleTests += r.triangleTests;
+    stats.nodeVisits += r.nodeVisits;
+  }
+  if (stats.traceShadeMs > 0.0)
+    stats.mraysPerSecond =
+        static_cast<double>(stats.traced.total()) / (stats.traceShadeMs * 1000.0);
+  return stats;
+}
+
+}  // namespace tg

@@ -1,0 +1,258 @@
+// Whitted and OpenGL-like shading and the debug modes (see Shader.h).
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "Shader.h"
+#include "tracegraph/backend/render/Optics.h"
+
+namespace tg::detail {
+namespace {
+
+/// One light as seen from a surface point.
+struct LightSample {
+  Vec3f direction;  ///< unit, from the point towards the light
+  Vec3f color;      ///< what arrives: colour with attenuation and spot cone applied
+  Vec3f position;   ///< the light's position (unused when atInfinity)
+  bool atInfinity = false;
+};
+
+bool isBlack(const Vec3f& c) {
+  return !(c.x > 0.0f || c.y > 0.0f || c.z > 0.0f);
+}
+
+/// Calls fn(LightSample) for every light of the scene, as seen from point p.
+template <typename Fn>
+void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
+  for (const PointLight& l : rs.pointLights) {
+    const Vec3f toLight = l.position - p;
+    const float distance = length(toLight);
+    if (!(distance > 0.0f)) continue;  // a light exactly at the point lights nothing
+    LightSample s;
+    s.direction = toLight / distance;
+    s.color = l.attenuation.none() ? l.color : l.color * l.attenuation.factor(distance);
+    s.position = l.position;
+    fn(s);
+  }
+  for (const DirectionalLight& l : rs.directionalLights) {
+    LightSample s;
+    s.direction = -normalize(l.direction);
+    s.color = l.color;
+    s.atInfinity = true;
+    fn(s);
+  }
+  for (const SpotLight& l : rs.spotLights) {
+    const Vec3f toLight = l.position - p;
+    const float distance = length(toLight);
+    if (!(distance > 0.0f)) continue;
+    LightSample s;
+    s.direction = toLight / distance;
+    s.color = l.color * (l.coneFactor(-s.direction) * l.attenuation.factor(distance));
+    s.position = l.position;
+    fn(s);
+  }
+}
+
+/// Phong terms for unit normal n, unit view vector v and unit light vector l with nl = n.l > 0:
+/// diffuse max(0, n.l) + specular max(0, r.v)^shine. A highlight needs r.v > 0, so 0^0 (shine
+/// 0 facing away) counts as no highlight.
+Vec3f phong(const Material& m, const Vec3f& diffuse, const Vec3f& n, const Vec3f& v, const Vec3f& l,
+            float nl) {
+  Vec3f c = diffuse * nl;
+  if (m.reflective()) {
+    const Vec3f r = n * (2.0f * nl) - l;
+    const float rv = dot(r, v);
+    if (rv > 0.0f) c += m.specular * std::pow(rv, m.shine);
+  }
+  return c;
+}
+
+/// Colours of the `classes` mode.
+Vec3f classColor(DynamicsClass c) {
+  switch (c) {
+    case DynamicsClass::Static:
+      return {0.55f, 0.60f, 0.72f};
+    case DynamicsClass::Rigid:
+      return {0.30f, 0.80f, 0.35f};
+    case DynamicsClass::Deforming:
+      return {0.95f, 0.45f, 0.15f};
+  }
+  return {1.0f, 0.0f, 1.0f};
+}
+
+/// A well-mixed colour per id (murmur3's finaliser), each channel in [0.15, 0.95] so that no
+/// instance is black or washed out.
+Vec3f hashColor(std::uint32_t id) {
+  std::uint32_t h = id + 0x9E3779B9u;
+  h ^= h >> 16;
+  h *= 0x85EBCA6Bu;
+  h ^= h >> 13;
+  h *= 0xC2B2AE35u;
+  h ^= h >> 16;
+  auto channel = [](std::uint32_t bits) {
+    return 0.15f + 0.8f * static_cast<float>(bits & 0xFFu) / 255.0f;
+  };
+  return {channel(h), channel(h >> 8), channel(h >> 16)};
+}
+
+}  // namespace
+
+Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
+    : rs_(scene),
+      scene_(*scene.scene),
+      settings_(settings),
+      whitted_(settings.mode == RenderMode::Whitted) {}
+
+PixelSample Shader::shadePrimary(const Ray& ray, TraversalContext& ctx,
+                                 TileCounters& counters) const {
+  PixelSample s;
+  ++counters.traced.primary;
+  Hit hit;
+  const bool debugMode = settings_.mode == RenderMode::Normals ||
+                         settings_.mode == RenderMode::Classes ||
+                         settings_.mode == RenderMode::Instances;
+  if (!scene_.intersect(ray, hit, ctx)) {
+    s.color = debugMode ? Vec3f{} : rs_.background;
+    return s;
+  }
+  // Primary directions are unit, so t is the distance along the unit direction.
+  s.depth = hit.t;
+  s.instanceId = hit.instanceId;
+  s.primId = hit.primId;
+  const Scene::SurfaceData sd = scene_.surfaceAt(ray, hit);
+  s.normal = sd.shadingNormal;
+  s.color = debugMode ? debugColor(ray, hit, sd) : shadeHit(ray, hit, sd, 0, 1.0f, ctx, counters);
+  return s;
+}
+
+Vec3f Shader::trace(const Ray& ray, int depth, float weight, TraversalContext& ctx,
+                    TileCounters& counters) const {
+  Hit hit;
+  if (!scene_.intersect(ray, hit, ctx)) return rs_.background;
+  return shadeHit(ray, hit, scene_.surfaceAt(ray, hit), depth, weight, ctx, counters);
+}
+
+bool Shader::mayTrace(int depth, float childWeight, TileCounters& counters) const {
+  if (depth >= settings_.maxDepth) {
+    ++counters.depthLimited;
+    return false;
+  }
+  if (!(childWeight >= settings_.minWeight)) {
+    ++counters.weightCutoff;
+    return false;
+  }
+  return true;
+}
+
+Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
+                       float weight, TraversalContext& ctx, TileCounters& counters) const {
+  const Material& m = rs_.material(hit.instanceId, hit.objectId, hit.primId);
+  // Shade with the normals facing the incoming ray; the geometric normal alone decides the
+  // side, because interpolated normals can disagree with it near silhouettes.
+  const bool backFace = dot(sd.geometricNormal, ray.direction) > 0.0f;
+  const Vec3f ng = backFace ? -sd.geometricNormal : sd.geometricNormal;
+  const Vec3f ns = backFace ? -sd.shadingNormal : sd.shadingNormal;
+  const Vec3f dir = normalize(ray.direction);
+  const Vec3f v = -dir;
+
+  Vec3f diffuse = m.diffuse, ambient = m.ambient;
+  if (m.texture != kInvalidId && sd.hasUv) {
+    const Vec3f texel = rs_.textures[m.texture]->sample(sd.uv, settings_.textureFilter);
+    diffuse = m.textureMode == TextureMode::Replace ? texel : diffuse * texel;
+    ambient = ambient * texel;
+  }
+  Vec3f color = ambient * rs_.ambient;
+
+  // The refined hit point is needed only for secondary rays; compute it at most once.
+  std::optional<SurfacePoint> point;
+  auto surface = [&]() -> const SurfacePoint& {
+    if (!point) point = refineHitPoint(scene_, ray, hit);
+    return *point;
+  };
+
+  const bool lit = m.lit();
+  forEachLight(rs_, sd.position, [&](const LightSample& light) {
+    const float nl = dot(ns, light.direction);
+    // Model only what the scene needs: no shadow ray when the light cannot change the colour.
+    if (!lit || isBlack(light.color) || nl <= 0.0f || dot(ng, light.direction) <= 0.0f) {
+      if (whitted_) ++counters.saved.shadow;
+      return;
+    }
+    const Vec3f local = light.color * phong(m, diffuse, ns, v, light.direction, nl);
+    if (isBlack(local)) {
+      if (whitted_) ++counters.saved.shadow;
+      return;
+    }
+    if (whitted_) {
+      const Ray shadow = light.atInfinity ? spawnRay(surface(), light.direction)
+                                          : spawnRayTo(surface(), light.position);
+      if (shadow.tfar > 0.0f) {
+        ++counters.traced.shadow;
+        if (scene_.occluded(shadow, ctx)) return;
+      }
+    }
+    color += local;
+  });
+  if (!whitted_) return color;
+
+  // Secondary rays. Glass splits its transmittance T between reflection and refraction by
+  // Fresnel; the mirror part (specular) adds to the reflection, traced as one ray.
+  Vec3f reflectWeight = m.specular;
+  float refractWeight = 0.0f;
+  Vec3f refractDir;
+  if (m.transmissive()) {
+    // Entering or leaving is decided by the geometric normal; the outside is air.
+    const float inside = m.effectiveIor();
+    const float etaI = backFace ? inside : 1.0f, etaT = backFace ? 1.0f : inside;
+    FresnelSplit split = fresnelRefract(dir, ns, etaI, etaT);
+    // An interpolated normal can bend the refracted ray back to the incident side of the
+    // actual surface; the geometric normal gives a direction that really crosses it.
+    if (!split.totalInternalReflection && dot(split.refracted, ng) >= 0.0f)
+      split = fresnelRefract(dir, ng, etaI, etaT);
+    const float t = m.transmittance;
+    reflectWeight += Vec3f{t, t, t} * split.reflectance;
+    if (split.totalInternalReflection) {
+      ++counters.totalInternalReflections;
+    } else {
+      refractWeight = t * split.transmittance;
+      refractDir = split.refracted;
+    }
+  } else {
+    ++counters.saved.refraction;
+  }
+
+  if (!isBlack(reflectWeight)) {
+    const float childWeight = weight * maxComponent(reflectWeight);
+    if (mayTrace(depth, childWeight, counters)) {
+      Vec3f r = reflect(dir, ns);
+      if (dot(r, ng) <= 0.0f) r = reflect(dir, ng);  // same reason as for refraction
+      ++counters.traced.reflection;
+      color += reflectWeight * trace(spawnRay(surface(), r), depth + 1, childWeight, ctx, counters);
+    }
+  } else {
+    ++counters.saved.reflection;
+  }
+
+  if (refractWeight > 0.0f) {
+    const float childWeight = weight * refractWeight;
+    if (mayTrace(depth, childWeight, counters)) {
+      ++counters.traced.refraction;
+      color += trace(spawnRay(surface(), refractDir), depth + 1, childWeight, ctx, counters) *
+               refractWeight;
+    }
+  }
+  return color;
+}
+
+Vec3f Shader::debugColor(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const {
+  if (settings_.mode == RenderMode::Normals)
+    return (sd.shadingNormal + Vec3f{1.0f, 1.0f, 1.0f}) * 0.5f;
+  // A little headlight shading keeps shapes readable in the flat-colour modes.
+  const float facing = std::abs(dot(sd.shadingNormal, normalize(ray.direction)));
+  const Vec3f base = settings_.mode == RenderMode::Classes
+                         ? classColor(rs_.dynamicsClass(hit.instanceId))
+                         : hashColor(hit.instanceId);
+  return base * (0.25f + 0.75f * facing);
+}
+
+}  // namespace tg::detail

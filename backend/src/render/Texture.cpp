@@ -1,0 +1,188 @@
+#include "tracegraph/backend/render/Texture.h"
+
+#include <stb_image.h>
+
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <vector>
+
+#include "tracegraph/backend/Error.h"
+#include "tracegraph/backend/render/ImageIO.h"
+
+namespace tg {
+namespace {
+
+/// Largest accepted texture, in texels: far beyond any real texture, small enough that a
+/// corrupt header cannot make us allocate gigabytes.
+constexpr std::uint64_t kMaxTexels = 1ull << 28;
+
+/// Reads the header of a PPM and the raster that follows.
+class PpmReader {
+ public:
+  PpmReader(const std::string& path, const std::vector<unsigned char>& bytes)
+      : path_(path), bytes_(bytes) {}
+
+  Image read(ColorEncoding encoding) {
+    const bool ascii = bytes_[1] == '3';
+    pos_ = 2;
+    const std::uint64_t w = readNumber("width");
+    const std::uint64_t h = readNumber("height");
+    const std::uint64_t maxval = readNumber("maxval");
+    if (w == 0 || h == 0 || w * h > kMaxTexels)
+      fail("bad image size " + std::to_string(w) + " x " + std::to_string(h));
+    if (maxval == 0 || maxval > 65535)
+      fail("maxval " + std::to_string(maxval) + " not in 1..65535");
+    // Exactly one whitespace character separates maxval from a binary raster.
+    if (pos_ >= bytes_.size() || !std::isspace(bytes_[pos_])) fail("no whitespace after maxval");
+    ++pos_;
+
+    Image image(static_cast<std::uint32_t>(w), static_cast<std::uint32_t>(h), 3);
+    const std::size_t count = static_cast<std::size_t>(w * h * 3);
+    const std::size_t bytesPerSample = maxval < 256 ? 1 : 2;
+    if (!ascii && bytes_.size() - pos_ < count * bytesPerSample)
+      fail("raster truncated: " + std::to_string(bytes_.size() - pos_) + " bytes for " +
+           std::to_string(count * bytesPerSample));
+    // A small table for 8-bit data avoids a pow() per texel of large textures.
+    std::vector<float> table(static_cast<std::size_t>(maxval) + 1);
+    for (std::size_t i = 0; i < table.size(); ++i) {
+      const float v = static_cast<float>(i) / static_cast<float>(maxval);
+      table[i] = encoding == ColorEncoding::Srgb ? srgbDecode(v) : v;
+    }
+    float* out = image.data().data();
+    for (std::size_t i = 0; i < count; ++i) {
+      std::uint64_t value = 0;
+      if (ascii) {
+        value = readNumber("sample");
+      } else if (bytesPerSample == 1) {
+        value = bytes_[pos_++];
+      } else {  // 16-bit samples are big-endian
+        value = (static_cast<std::uint64_t>(bytes_[pos_]) << 8) | bytes_[pos_ + 1];
+        pos_ += 2;
+      }
+      if (value > maxval) fail("sample " + std::to_string(value) + " exceeds maxval");
+      out[i] = table[static_cast<std::size_t>(value)];
+    }
+    // Anything after the raster (a second image, padding, a newline) is ignored.
+    return image;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(path_ + ": malformed PPM: " + what);
+  }
+
+  void skipSpaceAndComments() {
+    while (pos_ < bytes_.size()) {
+      if (bytes_[pos_] == '#') {
+        while (pos_ < bytes_.size() && bytes_[pos_] != '\n' && bytes_[pos_] != '\r') ++pos_;
+      } else if (std::isspace(bytes_[pos_])) {
+        ++pos_;
+      } else {
+        break;
+      }
+    }
+  }
+
+  std::uint64_t readNumber(const char* what) {
+    skipSpaceAndComments();
+    if (pos_ >= bytes_.size()) fail(std::string("file ends before ") + what);
+    if (!std::isdigit(bytes_[pos_])) fail(std::string("expected a number for ") + what);
+    std::uint64_t v = 0;
+    while (pos_ < bytes_.size() && std::isdigit(bytes_[pos_])) {
+      v = v * 10 + static_cast<std::uint64_t>(bytes_[pos_++] - '0');
+      if (v > (1ull << 32)) fail(std::string(what) + " is absurdly large");
+    }
+    return v;
+  }
+
+  const std::string& path_;
+  const std::vector<unsigned char>& bytes_;
+  std::size_t pos_ = 0;
+};
+
+std::string stbReason() {
+  const char* reason = stbi_failure_reason();
+  return reason ? reason : "unknown reason";
+}
+
+Image loadWithStb(const std::string& path, ColorEncoding encoding) {
+  int w = 0, h = 0, n = 0;
+  if (!stbi_info(path.c_str(), &w, &h, &n))
+    throw Error(path + ": not a PPM, PNG or other readable image (" + stbReason() + ")");
+  if (w <= 0 || h <= 0 ||
+      static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > kMaxTexels)
+    throw Error(path + ": bad image size");
+  const bool sixteen = stbi_is_16_bit(path.c_str()) != 0;
+  const float maxval = sixteen ? 65535.0f : 255.0f;
+  // Always ask stb for 3 channels: grey is expanded and alpha dropped.
+  std::unique_ptr<void, void (*)(void*)> pixels(
+      sixteen ? static_cast<void*>(stbi_load_16(path.c_str(), &w, &h, &n, 3))
+              : static_cast<void*>(stbi_load(path.c_str(), &w, &h, &n, 3)),
+      stbi_image_free);
+  if (!pixels) throw Error(path + ": cannot decode image (" + stbReason() + ")");
+  Image image(static_cast<std::uint32_t>(w), static_cast<std::uint32_t>(h), 3);
+  for (std::size_t i = 0; i < image.data().size(); ++i) {
+    const float raw = sixteen
+                          ? static_cast<float>(static_cast<const std::uint16_t*>(pixels.get())[i])
+                          : static_cast<float>(static_cast<const std::uint8_t*>(pixels.get())[i]);
+    const float v = raw / maxval;
+    image.data()[i] = encoding == ColorEncoding::Srgb ? srgbDecode(v) : v;
+  }
+  return image;
+}
+
+/// Wraps i into [0, n) for any integer i (GL_REPEAT).
+std::uint32_t wrap(long long i, std::uint32_t n) {
+  const long long m = i % static_cast<long long>(n);
+  return static_cast<std::uint32_t>(m < 0 ? m + n : m);
+}
+
+}  // namespace
+
+Texture::Texture(Image rgb, std::string name) : image_(std::move(rgb)), name_(std::move(name)) {
+  if (image_.channels() != 3 || image_.empty())
+    throw Error("Texture " + name_ + ": needs a non-empty 3-channel image");
+}
+
+Texture Texture::load(const std::string& path, ColorEncoding encoding) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path + ": cannot open texture");
+  char magic[2] = {0, 0};
+  in.read(magic, 2);
+  if (in.gcount() == 2 && magic[0] == 'P' && (magic[1] == '6' || magic[1] == '3')) {
+    in.seekg(0);
+    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                           std::istreambuf_iterator<char>());
+    PpmReader reader(path, bytes);
+    return Texture(reader.read(encoding), path);
+  }
+  return Texture(loadWithStb(path, encoding), path);
+}
+
+Vec3f Texture::texel(long long x, long long y) const {
+  return image_.rgb(wrap(x, image_.width()), wrap(y, image_.height()));
+}
+
+Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
+  if (image_.empty()) return {1.0f, 1.0f, 1.0f};
+  // Work in double: u * width for u of a few thousand repeats must still pick the right texel.
+  // fmod (exact) keeps huge coordinates from overflowing the integer conversion below.
+  const double x = std::fmod(static_cast<double>(uv.u) * image_.width(), image_.width());
+  const double y = std::fmod(static_cast<double>(uv.v) * image_.height(), image_.height());
+  if (!std::isfinite(x) || !std::isfinite(y)) return texel(0, 0);
+  if (filter == TextureFilter::Nearest)
+    return texel(static_cast<long long>(std::floor(x)), static_cast<long long>(std::floor(y)));
+  // Texel centres sit at half-integers; interpolate between the four around (x, y).
+  const double fx = x - 0.5, fy = y - 0.5;
+  const double x0 = std::floor(fx), y0 = std::floor(fy);
+  const float ax = static_cast<float>(fx - x0), ay = static_cast<float>(fy - y0);
+  const long long ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
+  const Vec3f top = texel(ix, iy) * (1.0f - ax) + texel(ix + 1, iy) * ax;
+  const Vec3f bottom = texel(ix, iy + 1) * (1.0f - ax) + texel(ix + 1, iy + 1) * ax;
+  return top * (1.0f - ay) + bottom * ay;
+}
+
+}  // namespace tg

@@ -1,0 +1,29 @@
+#include "BenchTiming.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace tg::bench {
+
+TimingSummary summarize(std::vector<double> samples) {
+  TimingSummary s;
+  s.reps = static_cast<int>(samples.size());
+  if (samples.empty()) return s;
+  std::sort(samples.begin(), samples.end());
+  const std::size_t n = samples.size();
+  s.medianMs = n % 2 == 1 ? samples[n / 2] : 0.5 * (samples[n / 2 - 1] + samples[n / 2]);
+  s.minMs = samples.front();
+  s.maxMs = samples.back();
+  return s;
+}
+
+TimingSummary measureRepeated(int reps, const std::function<double(int)>& sample) {
+  if (reps < 1) throw std::invalid_argument("measureRepeated: reps must be at least 1");
+  sample(0);
+  std::vector<double> samples;
+  samples.reserve(static_cast<std::size_t>(reps));
+  for (int k = 1; k <= reps; ++k) samples.push_back(sample(k));
+  return summarize(std::move(samples));
+}
+
+}  // namespace tg::bench

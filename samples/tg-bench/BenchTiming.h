@@ -1,0 +1,38 @@
+/// @file BenchTiming.h
+/// Repeat-and-median runner shared by every suite.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <vector>
+
+namespace tg::bench {
+
+/// Summary of repeated measurements of one case.
+struct TimingSummary {
+  double medianMs = 0.0;
+  double minMs = 0.0;
+  double maxMs = 0.0;
+  int reps = 0;
+};
+
+/// Median (mean of the two middle values for an even count), minimum and maximum of `samples`.
+TimingSummary summarize(std::vector<double> samples);
+
+/// Calls `sample(k)` once for k = 0 as an untimed warm-up (first-touch page faults, lazily
+/// started worker threads and caches would otherwise land in the first sample), then for
+/// k = 1..reps, and summarises what those calls returned. Each call returns the milliseconds
+/// it measured itself, so that per-repetition setup (moving instances, resetting buffers) stays
+/// outside the measurement.
+TimingSummary measureRepeated(int reps, const std::function<double(int)>& sample);
+
+/// Wall-clock milliseconds taken by `f()`.
+template <typename F>
+double timeMs(F&& f) {
+  const auto start = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+}  // namespace tg::bench

@@ -1,0 +1,116 @@
+// The toplevel suite: how long rebuilding the top-level structure takes when every instance
+// moved, the per-frame cost the paper's design rests on (Wald et al. 2003 rebuild the top
+// level from scratch every frame).
+#include <cmath>
+#include <vector>
+
+#include "BenchTiming.h"
+#include "SceneGenerators.h"
+#include "SuiteCommon.h"
+#include "Suites.h"
+#include "tracegraph/backend/KdTreeAccel.h"
+#include "tracegraph/backend/Scene.h"
+#include "tracegraph/backend/TopLevelKdTree.h"
+
+#ifdef TG_HAVE_EMBREE
+#include "EmbreePeer.h"
+#endif
+
+namespace tg::bench {
+namespace {
+
+/// What Scene::commit() derives from an instance before the top-level build: both float
+/// matrices and the world bounds of the object's box.
+void fillRecords(const ObjectAccel& accel, std::span<const Affine3d> placements,
+                 std::vector<InstanceRecord>& records) {
+  const Box3f b = accel.bounds();
+  const Box3d objectBounds(Vec3d(b.lower), Vec3d(b.upper));
+  records.resize(placements.size());
+  for (std::size_t i = 0; i < placements.size(); ++i) {
+    const Affine3d& m = placements[i];
+    const Box3d world = m.transformBox(objectBounds);
+    InstanceRecord& r = records[i];
+    r.accel = &accel;
+    r.objectToWorld = Affine3f(m);
+    r.worldToObject = Affine3f(m.inverse().value());
+    r.worldBounds = Box3f(Vec3f(world.lower), Vec3f(world.upper));
+    r.instanceId = static_cast<std::uint32_t>(i);
+    r.objectId = 0;
+    r.identity = false;
+  }
+}
+
+void addTopLevelStats(BenchRow& row, const TopLevelStats& s) {
+  row.extra.push_back(intField("nodes", static_cast<std::int64_t>(s.nodes)));
+  row.extra.push_back(intField("leaves", static_cast<std::int64_t>(s.leaves)));
+  row.extra.push_back(intField("max_depth", static_cast<std::int64_t>(s.maxDepth)));
+  row.extra.push_back(intField("references", static_cast<std::int64_t>(s.references)));
+}
+
+}  // namespace
+
+BenchReport runToplevelSuite(const CommonOptions& common, const ToplevelOptions& options) {
+  const int reps = repsOrDefault(common, kDefaultBuildReps);
+  const std::size_t n = options.instances;
+  BenchReport report = startReport("toplevel", common);
+  const std::string caseName = std::to_string(n) + " instances";
+
+  // A 12-triangle box, deliberately not a cube so that rotations change its world bounds.
+  const TriangleMesh box = makeBoxMesh(Vec3f(0.5f, 0.25f, 0.125f));
+  // About 8 units of volume per instance: instances are scattered, with some overlap.
+  const double side = 2.0 * std::cbrt(static_cast<double>(n));
+  // One frame of placements per sample (warm-up included), the same sequence for every
+  // implementation.
+  std::vector<std::vector<Affine3d>> frames;
+  for (int k = 0; k <= reps; ++k)
+    frames.push_back(makeRandomPlacements(n, side, 1000 + static_cast<std::uint64_t>(k)));
+
+  progress("toplevel: tracegraph-kd");
+  {
+    // Through the public API: move every instance, commit, and take the top-level part of the
+    // commit (instance records with world bounds, then Algorithm 1); no object is rebuilt.
+    Scene scene;
+    const ObjectId object = scene.createObject(box, ObjectUsage::Rigid);
+    for (const Affine3d& m : frames[0]) scene.createInstance(object, m);
+    scene.commit();
+    const TimingSummary t = measureRepeated(reps, [&](int k) {
+      const std::vector<Affine3d>& frame = frames[static_cast<std::size_t>(k)];
+      for (std::size_t i = 0; i < n; ++i)
+        scene.setInstanceTransform(static_cast<InstanceId>(i), frame[i]);
+      return scene.commit().topLevelMs;
+    });
+    addTopLevelStats(addRow(report, caseName, "tracegraph-kd", t), scene.topLevel().stats());
+  }
+
+  progress("toplevel: tracegraph-kd-build");
+  {
+    // Algorithm 1 alone, over records prepared outside the measurement.
+    KdTreeAccel accel(AccelKind::SahKdTree);
+    accel.build(box);
+    std::vector<InstanceRecord> records;
+    TopLevelKdTree tree;
+    const TimingSummary t = measureRepeated(reps, [&](int k) {
+      fillRecords(accel, frames[static_cast<std::size_t>(k)], records);
+      return timeMs([&] { tree.build(records); });
+    });
+    addTopLevelStats(addRow(report, caseName, "tracegraph-kd-build", t), tree.stats());
+  }
+
+#ifdef TG_HAVE_EMBREE
+  EmbreeDevice device(common.threads);
+  for (const EmbreeQuality quality :
+       {EmbreeQuality::Low, EmbreeQuality::Medium, EmbreeQuality::High, EmbreeQuality::Refit}) {
+    progress("toplevel: " + embreeImplName(quality));
+    EmbreeInstanceScene peer(device, box, n, quality);
+    const TimingSummary t = measureRepeated(reps, [&](int k) {
+      peer.setTransforms(frames[static_cast<std::size_t>(k)]);
+      return timeMs([&] { peer.commit(); });
+    });
+    device.check("committing the instance scene");
+    addRow(report, caseName, embreeImplName(quality), t);
+  }
+#endif
+  return report;
+}
+
+}  // namespace tg::bench

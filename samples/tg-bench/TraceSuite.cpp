@@ -1,0 +1,148 @@
+// The trace suite: ray throughput of closest-hit (primary) and any-hit (shadow) queries on the
+// same rays for every implementation, with a hit-by-hit comparison as an accuracy check.
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "BenchSceneLoader.h"
+#include "BenchTiming.h"
+#include "HitComparison.h"
+#include "RayGenerators.h"
+#include "SuiteCommon.h"
+#include "Suites.h"
+#include "TraceParallel.h"
+#include "tracegraph/backend/Error.h"
+#include "tracegraph/backend/Scene.h"
+
+#ifdef TG_HAVE_EMBREE
+#include "EmbreePeer.h"
+#endif
+
+namespace tg::bench {
+namespace {
+
+void traceOurs(const Scene& scene, std::span<const Ray> rays, std::span<RayOutcome> out) {
+  parallelOverRays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    TraversalContext ctx;
+    Hit hit;
+    for (std::size_t i = begin; i < end; ++i) {
+      scene.intersect(rays[i], hit, ctx);
+      out[i] = {hit.instanceId, hit.primId};
+    }
+  });
+}
+
+void occludedOurs(const Scene& scene, std::span<const Ray> rays, std::span<std::uint8_t> out) {
+  parallelOverRays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    TraversalContext ctx;
+    for (std::size_t i = begin; i < end; ++i) out[i] = scene.occluded(rays[i], ctx) ? 1 : 0;
+  });
+}
+
+/// Primary hits (distance and normal) for spawning shadow rays; computed once, untimed.
+std::vector<SurfaceHit> primaryHits(const Scene& scene, std::span<const Ray> rays) {
+  std::vector<SurfaceHit> hits(rays.size());
+  parallelOverRays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    TraversalContext ctx;
+    Hit hit;
+    for (std::size_t i = begin; i < end; ++i)
+      if (scene.intersect(rays[i], hit, ctx)) hits[i] = {hit.t, hit.geometricNormal};
+  });
+  return hits;
+}
+
+/// Measures `trace` (which traces all `rayCount` rays once) inside `arena` and adds its row.
+template <typename Trace>
+BenchRow& measureTrace(BenchReport& report, tbb::task_arena& arena, const std::string& caseName,
+                       const std::string& impl, int reps, std::size_t rayCount,
+                       const Trace& trace) {
+  progress("trace: " + impl);
+  const TimingSummary t =
+      measureRepeated(reps, [&](int) { return timeMs([&] { arena.execute(trace); }); });
+  BenchRow& row = addRow(report, caseName, impl, t);
+  // rays / (ms * 1e-3 s/ms) / 1e6 rays per Mray
+  if (t.medianMs > 0.0) row.mraysPerS = static_cast<double>(rayCount) / (t.medianMs * 1e3);
+  row.extra.push_back(intField("rays", static_cast<std::int64_t>(rayCount)));
+  return row;
+}
+
+[[maybe_unused]] void addMismatches(BenchRow& row, const MismatchCounts& counts, bool withPrim) {
+  row.extra.push_back(intField("hit_mismatches", static_cast<std::int64_t>(counts.hitMiss)));
+  if (withPrim)
+    row.extra.push_back(intField("prim_mismatches", static_cast<std::int64_t>(counts.prim)));
+}
+
+}  // namespace
+
+BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& options) {
+  const int reps = repsOrDefault(common, kDefaultTraceReps);
+  const bool shadow = options.rays == "shadow";
+  const BenchScene bench = loadBenchScene(options.scene);
+  BenchReport report = startReport("trace", common);
+  const std::string caseName = options.scene + " " + options.rays + " " +
+                               std::to_string(options.size.width) + "x" +
+                               std::to_string(options.size.height);
+  tbb::task_arena arena(common.threads);
+
+  progress("trace: building " + options.scene);
+  Scene scene;
+  populateScene(bench, scene);
+  arena.execute([&] { scene.commit(); });
+  const Box3f bounds = scene.bounds();
+  if (bounds.empty()) throw Error("scene '" + options.scene + "' has no triangles to trace");
+
+  const std::vector<Ray> primary = makePrimaryRays(frameBounds(bounds, options.size), options.size);
+  std::vector<Ray> rays;
+  if (shadow) {
+    std::vector<SurfaceHit> hits;
+    arena.execute([&] { hits = primaryHits(scene, primary); });
+    // The offset scales with the scene so that it clears float rounding of the hit point.
+    const float offset = 1e-4f * 0.5f * length(bounds.extent());
+    rays = makeShadowRays(primary, hits, lightAbove(bounds), offset);
+  } else {
+    rays = primary;
+  }
+  const std::size_t n = rays.size();
+
+  std::vector<RayOutcome> ours(n);
+  std::vector<std::uint8_t> oursOccluded(n);
+  if (shadow) {
+    BenchRow& row = measureTrace(report, arena, caseName, "tracegraph-kd", reps, n,
+                                 [&] { occludedOurs(scene, rays, oursOccluded); });
+    row.extra.push_back(intField(
+        "occluded", std::count(oursOccluded.begin(), oursOccluded.end(), std::uint8_t{1})));
+  } else {
+    BenchRow& row = measureTrace(report, arena, caseName, "tracegraph-kd", reps, n,
+                                 [&] { traceOurs(scene, rays, ours); });
+    row.extra.push_back(intField(
+        "hits",
+        std::count_if(ours.begin(), ours.end(), [](const RayOutcome& o) { return o.hit(); })));
+  }
+
+#ifdef TG_HAVE_EMBREE
+  EmbreeDevice device(common.threads);
+  // Static scene at the quality Tracegraph's static objects get (SAH).
+  EmbreeBenchScene peer(device, bench, EmbreeQuality::High);
+  arena.execute([&] { peer.commit(); });
+  device.check("building the scene");
+  if (shadow) {
+    std::vector<std::uint8_t> occluded(n);
+    BenchRow& row = measureTrace(report, arena, caseName, "embree-occluded1", reps, n,
+                                 [&] { peer.occluded1(rays, occluded); });
+    addMismatches(row, compareOcclusion(oursOccluded, occluded), false);
+  } else {
+    std::vector<RayOutcome> theirs(n);
+    BenchRow& row1 = measureTrace(report, arena, caseName, "embree-intersect1", reps, n,
+                                  [&] { peer.intersect1(rays, theirs); });
+    addMismatches(row1, compareOutcomes(ours, theirs), true);
+    std::fill(theirs.begin(), theirs.end(), RayOutcome{});
+    BenchRow& row8 = measureTrace(report, arena, caseName, "embree-intersect8", reps, n,
+                                  [&] { peer.intersect8(rays, options.size, theirs); });
+    addMismatches(row8, compareOutcomes(ours, theirs), true);
+  }
+#endif
+  return report;
+}
+
+}  // namespace tg::bench

@@ -1,0 +1,122 @@
+// tg-bench: measures Tracegraph's builders and traversal against Embree.
+//
+//   tg-bench <suite> [options] [--json] [--threads N] [--reps R]
+//
+// Suites: toplevel, rebuild, build, trace (see Suites.h). stdout holds only the report (a
+// table, or with --json exactly one JSON object); progress and notes go to stderr. Exit codes:
+// 0 success, 1 bad input (e.g. a scene that cannot be loaded), 2 bad command line.
+#include <tbb/global_control.h>
+
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "BenchReport.h"
+#include "MachineInfo.h"
+#include "RayGenerators.h"
+#include "Suites.h"
+#include "tracegraph/backend/Error.h"
+
+namespace {
+
+using namespace tg::bench;
+
+void addCommonOptions(CLI::App& sub, CommonOptions& common) {
+  sub.add_flag("--json", common.json, "Print one JSON object instead of a table");
+  sub.add_option("--threads", common.threads,
+                 "Worker threads for Tracegraph and Embree (default: hardware threads)")
+      ->check(CLI::Range(1, 4096));
+  sub.add_option("--reps", common.reps,
+                 "Timed repetitions, reported as median/min/max (default: 11 for builds, 5 for "
+                 "trace)")
+      ->check(CLI::Range(1, 100000));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"tg-bench: Tracegraph build and trace benchmarks, with Embree as the peer"};
+  app.require_subcommand(1, 1);
+
+  CommonOptions common;
+  common.threads = hardwareThreads();
+  ToplevelOptions toplevel;
+  RebuildOptions rebuild;
+  BuildOptions build;
+  TraceOptions trace;
+
+  CLI::App* toplevelCmd =
+      app.add_subcommand("toplevel", "Top-level rebuild over N moving instances of a box");
+  toplevelCmd->add_option("--instances", toplevel.instances, "Number of instances")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{10'000'000}))
+      ->capture_default_str();
+  addCommonOptions(*toplevelCmd, common);
+
+  CLI::App* rebuildCmd =
+      app.add_subcommand("rebuild", "Object rebuild over N random triangles (deforming object)");
+  rebuildCmd->add_option("--triangles", rebuild.triangles, "Number of triangles")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}))
+      ->capture_default_str();
+  addCommonOptions(*rebuildCmd, common);
+
+  const std::string sceneHelp =
+      "Scene: builtin:sphereflake[:depth], builtin:random:N (files: once the loaders exist)";
+  CLI::App* buildCmd = app.add_subcommand("build", "Build every object and the top level");
+  buildCmd->add_option("--scene", build.scene, sceneHelp)->required();
+  addCommonOptions(*buildCmd, common);
+
+  CLI::App* traceCmd = app.add_subcommand("trace", "Primary or shadow ray throughput");
+  traceCmd->add_option("--scene", trace.scene, sceneHelp)->required();
+  traceCmd->add_option("--rays", trace.rays, "Ray kind")
+      ->check(CLI::IsMember({"primary", "shadow"}))
+      ->capture_default_str();
+  std::string sizeText = "1024x768";
+  traceCmd->add_option("--size", sizeText, "Image size WxH")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            ImageSize size;
+            return parseImageSize(text, size) ? std::string()
+                                              : "expected WxH with 1 <= W, H <= 16384";
+          },
+          "WxH"))
+      ->capture_default_str();
+  addCommonOptions(*traceCmd, common);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // Help requests exit 0; every command-line error exits 2.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  parseImageSize(sizeText, trace.size);
+
+  try {
+    // Caps every TBB parallel region in the process, Tracegraph's and Embree's alike.
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<std::size_t>(common.threads));
+    BenchReport report;
+    if (*toplevelCmd) {
+      report = runToplevelSuite(common, toplevel);
+    } else if (*rebuildCmd) {
+      report = runRebuildSuite(common, rebuild);
+    } else if (*buildCmd) {
+      report = runBuildSuite(common, build);
+    } else {
+      report = runTraceSuite(common, trace);
+    }
+    report.machine = machineDescription();
+    if (common.json) {
+      writeJson(report, std::cout);
+    } else {
+      writeTable(report, std::cout);
+    }
+    std::cout.flush();
+    return std::cout ? 0 : 1;
+  } catch (const tg::Error& e) {
+    std::cerr << "tg-bench: " << e.what() << '\n';
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "tg-bench: unexpected failure: " << e.what() << '\n';
+    return 1;
+  }
+}

@@ -1,0 +1,914 @@
+// Renderer tests with analytic answers: Phong shading of a sphere, shadow acne across scene
+// translations, refraction through slabs, Fresnel and total internal reflection, recursion
+// limits between mirrors, thread-count determinism, AOVs and image/texture files
+// (hard cases 13-17 and 21).
+#define BOOST_TEST_MODULE render
+#include <boost/test/unit_test.hpp>
+
+#include <tbb/task_arena.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "tracegraph/backend/Error.h"
+#include "tracegraph/backend/Scene.h"
+#include "tracegraph/backend/render/Camera.h"
+#include "tracegraph/backend/render/ImageIO.h"
+#include "tracegraph/backend/render/Optics.h"
+#include "tracegraph/backend/render/RayOffset.h"
+#include "tracegraph/backend/render/RenderScene.h"
+#include "tracegraph/backend/render/Renderer.h"
+#include "tracegraph/backend/render/Texture.h"
+
+using namespace tg;
+
+namespace {
+
+/// Quad (two triangles) with corner `o` and edges `e1`, `e2`, normal along e1 x e2.
+TriangleMesh makeQuad(const Vec3f& o, const Vec3f& e1, const Vec3f& e2) {
+  TriangleMesh m;
+  m.positions = {o, o + e1, o + e1 + e2, o + e2};
+  m.uvs = {{0.0f, 0.0f}, {1.0f, 0.0f}, {1.0f, 1.0f}, {0.0f, 1.0f}};
+  m.indices = {0, 1, 2, 0, 2, 3};
+  return m;
+}
+
+/// Axis-aligned box as 12 outward-facing triangles; faces in the order -x, +x, -y, +y, -z, +z
+/// (triangles 2k and 2k + 1 belong to face k).
+TriangleMesh makeBox(const Vec3f& lo, const Vec3f& hi) {
+  TriangleMesh m;
+  for (int i = 0; i < 8; ++i)
+    m.positions.push_back({(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
+  const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                     {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& q : quads)
+    m.indices.insert(m.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+  return m;
+}
+
+/// Sphere as a latitude/longitude mesh with exact vertex normals.
+TriangleMesh makeSphere(const Vec3f& centre, float radius, std::uint32_t rings,
+                        std::uint32_t segments) {
+  TriangleMesh m;
+  for (std::uint32_t i = 0; i <= rings; ++i) {
+    const double theta = std::numbers::pi * i / rings;
+    for (std::uint32_t j = 0; j <= segments; ++j) {
+      const double phi = 2.0 * std::numbers::pi * j / segments;
+      const Vec3d n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                    std::sin(theta) * std::sin(phi));
+      m.positions.push_back(Vec3f(Vec3d(centre) + n * static_cast<double>(radius)));
+      m.normals.push_back(Vec3f(n));
+    }
+  }
+  const std::uint32_t row = segments + 1;
+  for (std::uint32_t i = 0; i < rings; ++i)
+    for (std::uint32_t j = 0; j < segments; ++j) {
+      const std::uint32_t a = i * row + j, b = a + row;
+      if (i != 0) m.indices.insert(m.indices.end(), {a, a + 1, b});
+      if (i + 1 != rings) m.indices.insert(m.indices.end(), {a + 1, b + 1, b});
+    }
+  return m;
+}
+
+Material diffuseMaterial(const Vec3f& c) {
+  Material m;
+  m.diffuse = c;
+  return m;
+}
+
+Material mirrorMaterial(float reflectance) {
+  Material m;
+  m.diffuse = {0.0f, 0.0f, 0.0f};
+  m.specular = {reflectance, reflectance, reflectance};
+  return m;
+}
+
+Material glassMaterial(float ior) {
+  Material m;
+  m.diffuse = {0.0f, 0.0f, 0.0f};
+  m.transmittance = 1.0f;
+  m.ior = ior;
+  return m;
+}
+
+/// A Scene and its RenderScene, one material per object.
+struct TestScene {
+  Scene scene;
+  RenderScene rs;
+
+  TestScene() { rs.scene = &scene; }
+  TestScene(const TestScene&) = delete;
+  TestScene& operator=(const TestScene&) = delete;
+
+  InstanceId add(TriangleMesh mesh, const Material& material, const Affine3d& m = Affine3d{}) {
+    const ObjectId object = scene.createObject(std::move(mesh));
+    rs.materials.push_back(material);
+    if (rs.objectMaterials.size() <= object) rs.objectMaterials.resize(object + 1, kInvalidId);
+    rs.objectMaterials[object] = static_cast<std::uint32_t>(rs.materials.size() - 1);
+    return scene.createInstance(object, m);
+  }
+};
+
+Frame render(const TestScene& ts, const Camera& camera, const RenderSettings& settings,
+             RenderStats* stats = nullptr) {
+  Frame frame;
+  const RenderStats s = Renderer(settings).render(ts.rs, camera, frame);
+  if (stats) *stats = s;
+  return frame;
+}
+
+RenderSettings settingsFor(RenderMode mode) {
+  RenderSettings s;
+  s.mode = mode;
+  return s;
+}
+
+/// A fresh path in the temporary directory.
+std::filesystem::path tempPath(const std::string& name) {
+  return std::filesystem::temp_directory_path() /
+         ("tg_render_test_" + std::to_string(::getpid()) + "_" + name);
+}
+
+std::vector<unsigned char> readBytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeBytes(const std::filesystem::path& p, const std::string& bytes) {
+  std::ofstream out(p, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Camera
+
+BOOST_AUTO_TEST_CASE(camera_samples_pixel_centres_with_row_zero_on_top) {
+  const Camera cam = Camera::lookAt({1.0f, 2.0f, 3.0f}, {1.0f, 2.0f, -7.0f}, {0.0f, 1.0f, 0.0f},
+                                    90.0f, 5, 5, 0.25f);
+  const Ray centre = cam.primaryRay(2, 2);
+  BOOST_TEST(std::abs(centre.direction.z + 1.0f) < 1e-6f);
+  BOOST_TEST(centre.tnear == 0.25f);
+  BOOST_TEST((centre.origin == Vec3f{1.0f, 2.0f, 3.0f}));
+  const Ray topLeft = cam.primaryRay(0, 0);
+  BOOST_TEST(topLeft.direction.x < 0.0f);
+  BOOST_TEST(topLeft.direction.y > 0.0f);
+  // fov 90: the image plane at distance 1 spans [-1, 1]; pixel 0's centre is at -0.8.
+  const Vec3f d = topLeft.direction / -topLeft.direction.z;
+  BOOST_TEST(std::abs(d.x + 0.8f) < 1e-6f);
+  BOOST_TEST(std::abs(d.y - 0.8f) < 1e-6f);
+  for (std::uint32_t y = 0; y < 5; ++y)
+    for (std::uint32_t x = 0; x < 5; ++x)
+      BOOST_TEST(std::abs(length(cam.primaryRay(x, y).direction) - 1.0f) < 2e-7f);
+  BOOST_CHECK_THROW(Camera::lookAt({0, 0, 0}, {0, 1, 0}, {0, 1, 0}, 45.0f, 4, 4), Error);
+  BOOST_CHECK_THROW(Camera::lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 180.0f, 4, 4), Error);
+  BOOST_CHECK_THROW(Camera::lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 45.0f, 0, 4), Error);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Phong shading against the closed form
+
+BOOST_AUTO_TEST_CASE(tessellated_sphere_matches_closed_form_phong) {
+  TestScene ts;
+  Material m;
+  m.ambient = {0.2f, 0.2f, 0.2f};
+  m.diffuse = {0.6f, 0.3f, 0.2f};
+  m.specular = {0.3f, 0.3f, 0.3f};
+  m.shine = 20.0f;
+  const Vec3d centre(0.0, 0.0, 0.0);
+  const double radius = 1.0;
+  ts.add(makeSphere(Vec3f(centre), static_cast<float>(radius), 96, 192), m);
+  ts.scene.commit();
+  const Vec3d lightPos(3.0, 4.0, 5.0);
+  const Vec3d lightColor(0.9, 0.8, 0.7);
+  ts.rs.pointLights.push_back({Vec3f(lightPos), Vec3f(lightColor), {}});
+  ts.rs.ambient = {0.5f, 0.5f, 0.5f};
+  const Camera cam =
+      Camera::lookAt({0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 35.0f, 80, 80);
+
+  for (RenderMode mode : {RenderMode::Whitted, RenderMode::OpenGL}) {
+    RenderStats stats;
+    const Frame frame = render(ts, cam, settingsFor(mode), &stats);
+    double maxError = 0.0;
+    int compared = 0;
+    for (std::uint32_t y = 0; y < cam.height(); ++y) {
+      for (std::uint32_t x = 0; x < cam.width(); ++x) {
+        const Ray r = cam.primaryRay(x, y);
+        const Vec3d o(r.origin), d(r.direction);
+        // Exact ray/sphere intersection in double.
+        const Vec3d oc = o - centre;
+        const double b = dot(oc, d), c = dot(oc, oc) - radius * radius;
+        const double disc = b * b - c;
+        if (disc <= 0.0) {
+          BOOST_TEST(frame.depth.at(x, y) == kInfinity);
+          continue;
+        }
+        const Vec3d p = o + d * (-b - std::sqrt(disc));
+        const Vec3d n = (p - centre) / radius;
+        const Vec3d l = normalize(lightPos - p);
+        const Vec3d v = -d;
+        const double nl = dot(n, l);
+        // Stay away from the terminator and the silhouette, where a tessellated sphere
+        // legitimately differs from the exact one.
+        if (nl < 0.15 || dot(n, v) < 0.3) continue;
+        const Vec3d refl = n * (2.0 * nl) - l;
+        const double rv = std::max(0.0, dot(refl, v));
+        const Vec3d amb = Vec3d(m.ambient) * Vec3d(ts.rs.ambient);
+        const Vec3d expected =
+            amb + lightColor * (Vec3d(m.diffuse) * nl + Vec3d(m.specular) * std::pow(rv, 20.0));
+        const Vec3d got(frame.beauty.rgb(x, y));
+        for (int k = 0; k < 3; ++k) maxError = std::max(maxError, std::abs(got[k] - expected[k]));
+        ++compared;
+      }
+    }
+    BOOST_TEST_MESSAGE("sphere " << renderModeName(mode) << ": " << compared
+                                 << " pixels, max error " << maxError);
+    BOOST_TEST(compared > 1000);
+    BOOST_TEST(maxError < 0.01);
+    if (mode == RenderMode::OpenGL) BOOST_TEST(stats.traced.shadow == 0u);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shadow acne (hard case 13)
+
+namespace {
+
+struct AcneResult {
+  int lit = 0, expectedLit = 0, wrong = 0, nearBoundary = 0, floorPixels = 0;
+};
+
+/// A floor y = T lit at `elevationDegrees` by a directional light, with a wall x = T of height
+/// h casting a straight shadow edge at x = T + h / tan(elevation); the camera looks straight
+/// down at the edge. The whole scene is translated by (T, T, T).
+AcneResult renderShadowEdge(double translation, double elevationDegrees, RenderMode mode) {
+  const double h = 1000.0;
+  const double theta = elevationDegrees * std::numbers::pi / 180.0;
+  const double edge = h / std::tan(theta);
+  const float T = static_cast<float>(translation);
+  TestScene ts;
+  const float floorLo = -1000.0f, floorHi = static_cast<float>(2.0 * edge + 5000.0);
+  ts.add(makeQuad({T + floorLo, T, T + 8000.0f}, {floorHi - floorLo, 0.0f, 0.0f},
+                  {0.0f, 0.0f, -16000.0f}),
+         diffuseMaterial({1.0f, 1.0f, 1.0f}));
+  ts.add(makeQuad({T, T, T - 8000.0f}, {0.0f, static_cast<float>(h), 0.0f}, {0.0f, 0.0f, 16000.0f}),
+         diffuseMaterial({1.0f, 1.0f, 1.0f}));
+  ts.scene.commit();
+  const Vec3f lightDir(static_cast<float>(std::cos(theta)), static_cast<float>(-std::sin(theta)),
+                       0.0f);
+  ts.rs.directionalLights.push_back({lightDir, {1.0f, 1.0f, 1.0f}});
+
+  // The analytic edge from the float scene data: wall top over the floor, along the light.
+  const double floorY = T, wallX = T, wallTop = static_cast<double>(T + static_cast<float>(h));
+  const double edgeX = wallX + (wallTop - floorY) * static_cast<double>(lightDir.x) /
+                                   -static_cast<double>(lightDir.y);
+
+  const float eyeX = static_cast<float>(translation + edge);
+  const Camera cam =
+      Camera::lookAt({eyeX, T + 3000.0f, T}, {eyeX, T, T}, {0.0f, 0.0f, -1.0f}, 60.0f, 64, 64);
+  const Frame frame = render(ts, cam, settingsFor(mode));
+  const double footprint = 2.0 * 3000.0 * std::tan(std::numbers::pi / 6.0) / 64.0;
+  AcneResult res;
+  for (std::uint32_t y = 0; y < 64; ++y) {
+    for (std::uint32_t x = 0; x < 64; ++x) {
+      const Ray r = cam.primaryRay(x, y);
+      const double t =
+          (static_cast<double>(r.origin.y) - floorY) / -static_cast<double>(r.direction.y);
+      const double hitX = static_cast<double>(r.origin.x) + t * static_cast<double>(r.direction.x);
+      const bool expected = hitX > edgeX;
+      const bool lit = frame.beauty.at(x, y, 0) > 0.0f;
+      ++res.floorPixels;
+      res.lit += lit;
+      res.expectedLit += expected;
+      if (lit != expected) {
+        if (std::abs(hitX - edgeX) < 1.5 * footprint)
+          ++res.nearBoundary;
+        else
+          ++res.wrong;
+      }
+    }
+  }
+  return res;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(shadow_edge_is_exact_at_all_translations) {
+  for (double elevation : {10.0, 3.0}) {
+    for (double translation : {1.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6}) {
+      const AcneResult r = renderShadowEdge(translation, elevation, RenderMode::Whitted);
+      BOOST_TEST_MESSAGE("elevation " << elevation << " translation " << translation << ": lit "
+                                      << r.lit << " expected " << r.expectedLit << " of "
+                                      << r.floorPixels << ", boundary mismatches "
+                                      << r.nearBoundary);
+      BOOST_TEST(r.wrong == 0, "elevation " << elevation << ", translation " << translation << ": "
+                                            << r.wrong << " wrongly lit/shadowed pixels");
+      BOOST_TEST(r.nearBoundary <= 64);  // at most one column
+      BOOST_TEST(r.expectedLit > 1000);
+      BOOST_TEST(r.expectedLit < 3000);
+    }
+  }
+  // OpenGL mode casts no shadows: every floor pixel is lit.
+  const AcneResult gl = renderShadowEdge(1e3, 10.0, RenderMode::OpenGL);
+  BOOST_TEST(gl.lit == gl.floorPixels);
+}
+
+BOOST_AUTO_TEST_CASE(offset_origins_never_self_intersect_tilted_planes) {
+  // Rays hit a randomly tilted large quad; secondary rays leave towards random directions down
+  // to grazing ones, on both sides (reflection and refraction). None may hit the quad again.
+  std::mt19937 rng(1234);
+  std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
+  std::uint64_t naiveSelfHits = 0;
+  for (double translation : {0.0, 1.0, 1e2, 1e4, 1e6}) {
+    TestScene ts;
+    const Vec3f c(static_cast<float>(translation), static_cast<float>(-translation),
+                  static_cast<float>(0.5 * translation));
+    const Vec3f e1 = normalize(Vec3f{1.0f, 0.3f, -0.2f}) * 400.0f;
+    const Vec3f e2 = normalize(cross(Vec3f{0.2f, 0.4f, 1.0f}, e1)) * 300.0f;
+    ts.add(makeQuad(c - e1 * 0.5f - e2 * 0.5f, e1, e2), diffuseMaterial({1, 1, 1}));
+    // The same quad once more through a rotated, non-uniformly scaled instance, further out.
+    const Affine3d m = Affine3d::translation(Vec3d(c) + Vec3d(0.0, 0.0, 3000.0)) *
+                       Affine3d::rotation({0.3, 0.2, 1.0}, 37.0) *
+                       Affine3d::scaling({1.7, 0.6, 2.3});
+    ts.add(makeQuad(-e1 * 0.5f - e2 * 0.5f, e1, e2), diffuseMaterial({1, 1, 1}), m);
+    ts.scene.commit();
+    int selfHits = 0, hits = 0;
+    for (int i = 0; i < 4000; ++i) {
+      const Vec3f local = e1 * (0.45f * uni(rng)) + e2 * (0.45f * uni(rng));
+      const Vec3f target = i % 2 == 0 ? c + local : Vec3f(m.transformPoint(Vec3d(local)));
+      Ray r;
+      r.origin = target + Vec3f{uni(rng), uni(rng), uni(rng)} * 500.0f;
+      r.direction = target - r.origin;
+      Hit hit;
+      if (!ts.scene.intersect(r, hit)) continue;
+      ++hits;
+      const SurfacePoint sp = refineHitPoint(ts.scene, r, hit);
+      const Vec3f n = sp.geometricNormal;
+      for (int k = 0; k < 4; ++k) {
+        Vec3f w = normalize(Vec3f{uni(rng), uni(rng), uni(rng)});
+        // Push some directions to grazing: nearly within the plane.
+        if (k >= 2) w = normalize(w - n * dot(w, n) * 0.999f);
+        if (dot(w, n) == 0.0f) continue;
+        // Only the quad left counts: rays may legitimately hit the other one.
+        Hit again;
+        if (ts.scene.intersect(spawnRay(sp, w), again) && again.instanceId == hit.instanceId)
+          ++selfHits;
+        Ray naive;
+        naive.origin = r.origin + r.direction * hit.t;
+        naive.direction = w;
+        if (ts.scene.intersect(naive, again) && again.instanceId == hit.instanceId) ++naiveSelfHits;
+      }
+    }
+    BOOST_TEST(hits > 2000);
+    BOOST_TEST(selfHits == 0, "translation " << translation << ": " << selfHits << " self-hits");
+  }
+  // The check is sensitive: without the offset, rays do hit the surface they leave.
+  BOOST_TEST_MESSAGE("self-hits without offset: " << naiveSelfHits);
+  BOOST_TEST(naiveSelfHits > 0u);
+}
+
+BOOST_AUTO_TEST_CASE(shadow_rays_stop_short_of_a_light_on_a_surface) {
+  // A point light exactly on a wall: the wall must not shadow the floor it lights.
+  for (double translation : {0.0, 1e3, 1e5}) {
+    TestScene ts;
+    const float T = static_cast<float>(translation);
+    ts.add(makeQuad({T - 50.0f, T, T + 50.0f}, {100.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -100.0f}),
+           diffuseMaterial({1, 1, 1}));
+    ts.add(makeQuad({T - 50.0f, T, T - 10.0f}, {100.0f, 0.0f, 0.0f}, {0.0f, 40.0f, 0.0f}),
+           diffuseMaterial({1, 1, 1}));
+    ts.scene.commit();
+    ts.rs.pointLights.push_back({{T, T + 10.0f, T - 10.0f}, {1, 1, 1}, {}});
+    const Camera cam =
+        Camera::lookAt({T, T + 30.0f, T + 30.0f}, {T, T, T}, {0, 1, 0}, 40.0f, 24, 24);
+    const Frame frame = render(ts, cam, settingsFor(RenderMode::Whitted));
+    int floorLit = 0, floorPixels = 0;
+    for (std::uint32_t y = 0; y < 24; ++y)
+      for (std::uint32_t x = 0; x < 24; ++x)
+        if (frame.primId.at(x, y) != kInvalidId && frame.instanceId.at(x, y) == 0) {
+          ++floorPixels;
+          floorLit += frame.beauty.at(x, y, 0) > 0.0f;
+        }
+    BOOST_TEST(floorPixels > 100);
+    BOOST_TEST(floorLit == floorPixels, "translation " << translation);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Refraction (hard cases 15 and 16)
+
+BOOST_AUTO_TEST_CASE(parallel_slab_leaves_direction_unchanged) {
+  // Within 1e-6 up to 60 degrees of incidence. Beyond, the float rounding of the direction
+  // inside the slab (~6e-8) is amplified at the exit by about 1/cos(incidence), so the bound
+  // grows as (0.5 / cos)^2 down to grazing 80 degrees.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
+  double worstWithin60 = 0.0, worstRatio = 0.0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3f n = normalize(Vec3f{uni(rng), uni(rng), uni(rng)});  // slab normal, entry side
+    const Vec3f d = normalize(Vec3f{uni(rng), uni(rng), uni(rng)});
+    const float cosI = -dot(d, n);
+    if (cosI < 0.17f) continue;  // arrive from the n side, at most 80 degrees from the normal
+    const float ior = 1.0f + 1.5f * (0.5f + 0.5f * uni(rng));
+    const FresnelSplit in = fresnelRefract(d, n, 1.0f, ior);
+    BOOST_REQUIRE(!in.totalInternalReflection);
+    // The exit face is parallel; facing the ray inside, its normal is n again.
+    const FresnelSplit out = fresnelRefract(in.refracted, n, ior, 1.0f);
+    BOOST_REQUIRE(!out.totalInternalReflection);
+    const double change = length(Vec3d(out.refracted) - Vec3d(d));
+    if (cosI >= 0.5f) worstWithin60 = std::max(worstWithin60, change);
+    const double bound = cosI >= 0.5f ? 1e-6 : 1e-6 * std::pow(0.5 / static_cast<double>(cosI), 2);
+    worstRatio = std::max(worstRatio, change / bound);
+  }
+  BOOST_TEST_MESSAGE("slab: worst direction change within 60 degrees " << worstWithin60);
+  BOOST_TEST(worstWithin60 < 1e-6);
+  BOOST_TEST(worstRatio < 1.0);
+}
+
+BOOST_AUTO_TEST_CASE(ray_crosses_a_thin_slab_and_exits_on_the_far_side) {
+  for (double translation : {0.0, 1.0, 10.0}) {
+    for (float thickness : {1e-2f, 1e-4f}) {
+      TestScene ts;
+      const float T = static_cast<float>(translation);
+      ts.add(makeBox({T - 1.0f, T - thickness, T - 1.0f}, {T + 1.0f, T, T + 1.0f}),
+             glassMaterial(1.5f));
+      ts.scene.commit();
+      for (const Vec3f dir :
+           {Vec3f{0.3f, -1.0f, 0.1f}, Vec3f{0.0f, -1.0f, 0.0f}, Vec3f{2.0f, -1.0f, -1.0f}}) {
+        Ray r;
+        r.direction = normalize(dir);
+        r.origin = Vec3f{T + 0.1f, T, T - 0.05f} - r.direction * 3.0f;
+        Hit top;
+        BOOST_REQUIRE(ts.scene.intersect(r, top));
+        BOOST_TEST(top.primId / 2 == 3u);  // +y face
+        const SurfacePoint sp1 = refineHitPoint(ts.scene, r, top);
+        const Vec3f n1 = dot(top.geometricNormal, r.direction) < 0.0f ? top.geometricNormal
+                                                                      : -top.geometricNormal;
+        const FresnelSplit in = fresnelRefract(r.direction, n1, 1.0f, 1.5f);
+        const Ray inside = spawnRay(sp1, in.refracted);
+        BOOST_TEST(inside.origin.y < T);  // started below the top face
+        Hit bottom;
+        BOOST_REQUIRE(ts.scene.intersect(inside, bottom));
+        BOOST_TEST(bottom.primId / 2 == 2u,
+                   "thickness " << thickness << ": hit face " << bottom.primId / 2);  // -y face
+        BOOST_TEST(bottom.t > 0.0f);
+        const SurfacePoint sp2 = refineHitPoint(ts.scene, inside, bottom);
+        const Vec3f n2 = dot(bottom.geometricNormal, inside.direction) < 0.0f
+                             ? bottom.geometricNormal
+                             : -bottom.geometricNormal;
+        const FresnelSplit out = fresnelRefract(inside.direction, n2, 1.5f, 1.0f);
+        BOOST_REQUIRE(!out.totalInternalReflection);
+        const Ray exiting = spawnRay(sp2, out.refracted);
+        BOOST_TEST(exiting.origin.y < T - thickness);  // on the far side
+        Hit none;
+        BOOST_TEST(!ts.scene.intersect(exiting, none));  // no double hit
+        BOOST_TEST(length(out.refracted - r.direction) < 1e-6f);
+      }
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(fresnel_weights_sum_to_one_and_total_internal_reflection) {
+  const float ior = 1.5f;
+  const double critical = std::asin(1.0 / static_cast<double>(ior));
+  const Vec3f n{0.0f, 1.0f, 0.0f};
+  for (int i = 0; i <= 900; ++i) {
+    const double angle = (std::numbers::pi / 2.0) * i / 900.0 * 0.9999;
+    const Vec3f d(static_cast<float>(std::sin(angle)), static_cast<float>(-std::cos(angle)), 0.0f);
+    // Entering the dense medium: never total reflection, weights sum to 1.
+    const FresnelSplit enter = fresnelRefract(d, n, 1.0f, ior);
+    BOOST_TEST(!enter.totalInternalReflection);
+    BOOST_TEST(std::abs(enter.reflectance + enter.transmittance - 1.0f) < 1e-6f);
+    // Leaving it: total internal reflection beyond the critical angle.
+    const FresnelSplit leave = fresnelRefract(d, n, ior, 1.0f);
+    if (angle > critical + 1e-6) {
+      BOOST_TEST(leave.totalInternalReflection);
+      BOOST_TEST(leave.reflectance == 1.0f);
+      BOOST_TEST(leave.transmittance == 0.0f);
+    } else if (angle < critical - 1e-6) {
+      BOOST_TEST(!leave.totalInternalReflection);
+      BOOST_TEST(std::abs(leave.reflectance + leave.transmittance - 1.0f) < 1e-6f);
+      BOOST_TEST(std::abs(length(leave.refracted) - 1.0f) < 1e-6f);
+    }
+  }
+  // Normal incidence: ((n1 - n2) / (n1 + n2))^2 = 0.04 for glass.
+  BOOST_TEST(std::abs(fresnelReflectance(1.0f, 1.0f, 1.5f) - 0.04f) < 1e-6f);
+  // Equal indices: nothing reflected, direction unchanged (robots' ior 0 is read as 1).
+  const FresnelSplit same = fresnelRefract(normalize(Vec3f{1, -2, 0}), n, 1.0f, 1.0f);
+  BOOST_TEST(same.reflectance == 0.0f);
+  BOOST_TEST(length(same.refracted - normalize(Vec3f{1, -2, 0})) < 1e-7f);
+  BOOST_TEST(glassMaterial(0.0f).effectiveIor() == 1.0f);
+}
+
+BOOST_AUTO_TEST_CASE(renderer_reflects_totally_beyond_the_critical_angle) {
+  TestScene ts;
+  ts.add(makeBox({-10, -10, -10}, {10, 10, 10}), glassMaterial(1.5f));
+  ts.scene.commit();
+  RenderSettings s = settingsFor(RenderMode::Whitted);
+  s.maxDepth = 1;
+  const std::uint64_t pixels = 16 * 16;
+  {  // Looking at a face head-on from inside: every primary ray refracts out.
+    RenderStats st;
+    render(ts, Camera::lookAt({0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 10.0f, 16, 16), s, &st);
+    BOOST_TEST(st.traced.refraction == pixels);
+    BOOST_TEST(st.totalInternalReflections == 0u);
+    BOOST_TEST(st.traced.reflection == pixels);  // the Fresnel reflection
+  }
+  {  // Grazing (incidence 71..81 degrees > 41.8): no refraction ray at all.
+    RenderStats st;
+    render(ts, Camera::lookAt({0, 0, 9}, {4, 0, 10}, {0, 1, 0}, 10.0f, 16, 16), s, &st);
+    BOOST_TEST(st.traced.refraction == 0u);
+    BOOST_TEST(st.totalInternalReflections == pixels);
+    BOOST_TEST(st.traced.reflection == pixels);
+    BOOST_TEST(st.depthLimited >= pixels);  // the reflected rays could not go on
+  }
+}
+
+BOOST_AUTO_TEST_CASE(renderer_refracts_through_a_thin_glass_slab) {
+  TestScene ts;
+  ts.add(makeQuad({-50, 0, 50}, {100, 0, 0}, {0, 0, -100}), diffuseMaterial({0.5f, 0.5f, 0.5f}));
+  ts.add(makeBox({-5.0f, 1.0f, -5.0f}, {5.0f, 1.0001f, 5.0f}), glassMaterial(1.5f));
+  ts.scene.commit();
+  ts.rs.pointLights.push_back({{0, 20, 0}, {1, 1, 1}, {}});
+  RenderStats st;
+  render(ts, Camera::lookAt({0, 6, 0.5f}, {0, 0, 0}, {0, 1, 0}, 30.0f, 16, 16),
+         settingsFor(RenderMode::Whitted), &st);
+  // Every pixel sees the floor through the slab: in and out, both refracted.
+  BOOST_TEST(st.traced.refraction >= 2 * 16 * 16u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Recursion limits (hard case 17)
+
+BOOST_AUTO_TEST_CASE(facing_mirrors_end_by_depth_limit_and_by_weight_cutoff) {
+  const std::uint32_t size = 24;
+  const std::uint64_t pixels = size * size;
+  const Camera cam = Camera::lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 20.0f, size, size);
+  {
+    TestScene ts;
+    ts.add(makeQuad({-1000, -1000, -5}, {2000, 0, 0}, {0, 2000, 0}), mirrorMaterial(1.0f));
+    ts.add(makeQuad({-1000, -1000, 5}, {0, 2000, 0}, {2000, 0, 0}), mirrorMaterial(1.0f));
+    ts.scene.commit();
+    RenderSettings s = settingsFor(RenderMode::Whitted);
+    s.maxDepth = 5;
+    RenderStats st;
+    const Frame a = render(ts, cam, s, &st);
+    BOOST_TEST(st.traced.reflection == 5 * pixels);
+    BOOST_TEST(st.depthLimited == pixels);
+    BOOST_TEST(st.weightCutoff == 0u);
+    const Frame b = render(ts, cam, s);
+    BOOST_TEST(a.beauty.bitwiseEqual(b.beauty));
+  }
+  {
+    TestScene ts;
+    ts.add(makeQuad({-1000, -1000, -5}, {2000, 0, 0}, {0, 2000, 0}), mirrorMaterial(0.5f));
+    ts.add(makeQuad({-1000, -1000, 5}, {0, 2000, 0}, {2000, 0, 0}), mirrorMaterial(0.5f));
+    ts.scene.commit();
+    RenderSettings s = settingsFor(RenderMode::Whitted);
+    s.maxDepth = 50;
+    s.minWeight = 0.01f;
+    RenderStats st;
+    render(ts, cam, s, &st);
+    // Weights 0.5, 0.25, ..., 0.015625 are traced; 0.0078125 < 0.01 is cut.
+    BOOST_TEST(st.traced.reflection == 6 * pixels);
+    BOOST_TEST(st.weightCutoff == pixels);
+    BOOST_TEST(st.depthLimited == 0u);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Model only what the scene needs
+
+BOOST_AUTO_TEST_CASE(useless_rays_are_saved_and_counted) {
+  TestScene ts;
+  ts.add(makeQuad({-10, 0, 10}, {20, 0, 0}, {0, 0, -20}), diffuseMaterial({0.5f, 0.5f, 0.5f}));
+  ts.scene.commit();
+  ts.rs.pointLights.push_back({{0, -5, 0}, {1, 1, 1}, {}});  // below the floor: N.L <= 0
+  ts.rs.pointLights.push_back({{0, 5, 0}, {0, 0, 0}, {}});   // black
+  ts.rs.pointLights.push_back({{1, 5, 0}, {1, 1, 1}, {}});   // useful
+  const Camera cam = Camera::lookAt({0, 3, 0}, {0, 0, 0}, {0, 0, -1}, 60.0f, 16, 16);
+  RenderStats st;
+  render(ts, cam, settingsFor(RenderMode::Whitted), &st);
+  const std::uint64_t pixels = 16 * 16;
+  BOOST_TEST(st.traced.primary == pixels);
+  BOOST_TEST(st.traced.shadow == pixels);
+  BOOST_TEST(st.saved.shadow == 2 * pixels);
+  BOOST_TEST(st.traced.reflection == 0u);
+  BOOST_TEST(st.saved.reflection == pixels);
+  BOOST_TEST(st.traced.refraction == 0u);
+  BOOST_TEST(st.saved.refraction == pixels);
+  BOOST_TEST(st.mraysPerSecond >= 0.0);
+
+  // A black material needs no shadow ray for any light.
+  ts.rs.materials[0].diffuse = {0, 0, 0};
+  render(ts, cam, settingsFor(RenderMode::Whitted), &st);
+  BOOST_TEST(st.traced.shadow == 0u);
+  BOOST_TEST(st.saved.shadow == 3 * pixels);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Determinism (hard case 21) and AOVs
+
+namespace {
+
+void buildBusyScene(TestScene& ts) {
+  Material floor = diffuseMaterial({1, 1, 1});
+  floor.texture = 0;
+  floor.specular = {0.1f, 0.1f, 0.1f};
+  floor.shine = 30.0f;
+  Image checker(8, 8, 3);
+  for (std::uint32_t y = 0; y < 8; ++y)
+    for (std::uint32_t x = 0; x < 8; ++x)
+      checker.setRgb(x, y, ((x + y) % 2) ? Vec3f{0.9f, 0.9f, 0.9f} : Vec3f{0.1f, 0.2f, 0.3f});
+  ts.rs.textures.push_back(std::make_shared<const Texture>(std::move(checker), "checker"));
+  TriangleMesh floorMesh = makeQuad({-20, 0, 20}, {40, 0, 0}, {0, 0, -40});
+  for (Vec2f& uv : floorMesh.uvs) uv = {uv.u * 5.0f, uv.v * 5.0f};
+  ts.add(std::move(floorMesh), floor);
+  Material red = diffuseMaterial({0.8f, 0.1f, 0.1f});
+  red.specular = {0.3f, 0.3f, 0.3f};
+  red.shine = 40.0f;
+  ts.add(makeSphere({-1.5f, 1.0f, 0.0f}, 1.0f, 24, 48), red);
+  Material glass = glassMaterial(1.5f);
+  glass.specular = {0.05f, 0.05f, 0.05f};
+  ts.add(makeSphere({1.2f, 1.0f, 0.8f}, 1.0f, 24, 48), glass);
+  ts.add(makeBox({-4, 0, -4}, {4, 3, -3.8f}), mirrorMaterial(0.8f),
+         Affine3d::rotation({0, 1, 0}, 10.0));
+  ts.scene.commit();
+  ts.rs.pointLights.push_back({{-4, 8, 5}, {0.8f, 0.8f, 0.7f}, {}});
+  ts.rs.spotLights.push_back(
+      {{4, 6, 4}, {-0.5f, -1.0f, -0.5f}, {0.5f, 0.5f, 0.6f}, 0.7f, 0.5f, {}});
+  ts.rs.ambient = {0.1f, 0.1f, 0.1f};
+  ts.rs.background = {0.2f, 0.3f, 0.5f};
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(one_and_two_threads_give_bit_identical_images) {
+  TestScene ts;
+  buildBusyScene(ts);
+  const Camera cam = Camera::lookAt({0, 3, 8}, {0, 1, 0}, {0, 1, 0}, 45.0f, 72, 54);
+  for (RenderMode mode : {RenderMode::Whitted, RenderMode::OpenGL, RenderMode::Normals,
+                          RenderMode::Classes, RenderMode::Instances}) {
+    RenderSettings s = settingsFor(mode);
+    std::vector<Frame> frames;
+    std::vector<RenderStats> stats;
+    for (int threads : {1, 2, 1, 2}) {
+      tbb::task_arena arena(threads);
+      arena.execute([&] {
+        RenderStats st;
+        frames.push_back(render(ts, cam, s, &st));
+        stats.push_back(st);
+      });
+    }
+    // Different tiling must not matter either: pixels are independent.
+    s.tileSize = 7;
+    frames.push_back(render(ts, cam, s));
+    for (std::size_t i = 1; i < frames.size(); ++i) {
+      BOOST_TEST(frames[i].beauty.bitwiseEqual(frames[0].beauty), renderModeName(mode) << " " << i);
+      BOOST_TEST(frames[i].depth.bitwiseEqual(frames[0].depth));
+      BOOST_TEST(frames[i].normal.bitwiseEqual(frames[0].normal));
+      BOOST_TEST((frames[i].instanceId == frames[0].instanceId));
+      BOOST_TEST((frames[i].primId == frames[0].primId));
+    }
+    for (const RenderStats& st : stats) {
+      BOOST_TEST((st.traced == stats[0].traced));
+      BOOST_TEST((st.saved == stats[0].saved));
+    }
+    if (mode == RenderMode::Whitted) {
+      BOOST_TEST(stats[0].traced.shadow > 0u);
+      BOOST_TEST(stats[0].traced.reflection > 0u);
+      BOOST_TEST(stats[0].traced.refraction > 0u);
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(depth_aov_is_distance_along_unit_ray_and_inf_on_miss) {
+  TestScene ts;
+  // A tilted quad covering only part of the view.
+  ts.add(makeQuad({-3, -20, -10}, {30, 0, -5}, {0, 40, 0}), diffuseMaterial({1, 1, 1}));
+  ts.scene.commit();
+  const Camera cam = Camera::lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 60.0f, 32, 32);
+  const Frame f = render(ts, cam, settingsFor(RenderMode::Whitted));
+  int hits = 0, misses = 0;
+  const Vec3d a(-3, -20, -10), e1(30, 0, -5), e2(0, 40, 0);
+  const Vec3d n = normalize(cross(e1, e2));
+  for (std::uint32_t y = 0; y < 32; ++y) {
+    for (std::uint32_t x = 0; x < 32; ++x) {
+      const Ray r = cam.primaryRay(x, y);
+      const Vec3d o(r.origin), d = normalize(Vec3d(r.direction));
+      const double t = dot(a - o, n) / dot(d, n);
+      const Vec3d p = o + d * t;
+      const double s1 = dot(p - a, e1) / dot(e1, e1);
+      const bool inside = t > 0.0 && s1 > 0.0 && s1 < 1.0;
+      if (inside && std::abs(s1 - 0.0) > 1e-3) {
+        ++hits;
+        BOOST_TEST(std::abs(static_cast<double>(f.depth.at(x, y)) - t) < 1e-5 * t);
+        BOOST_TEST(f.instanceId.at(x, y) == 0u);
+        BOOST_TEST(f.primId.at(x, y) <= 1u);
+        BOOST_TEST(std::abs(f.normal.at(x, y, 2) - static_cast<float>(n.z)) < 1e-5f);
+      } else if (!inside && s1 < -1e-3) {
+        ++misses;
+        BOOST_TEST(std::isinf(f.depth.at(x, y)));
+        BOOST_TEST(f.depth.at(x, y) > 0.0f);
+        BOOST_TEST(f.instanceId.at(x, y) == kInvalidId);
+        BOOST_TEST(f.primId.at(x, y) == kInvalidId);
+        BOOST_TEST(f.normal.at(x, y, 0) == 0.0f);
+      }
+    }
+  }
+  BOOST_TEST(hits > 100);
+  BOOST_TEST(misses > 100);
+
+  // Through a PFM file: one channel, +inf survives.
+  const auto path = tempPath("depth.pfm");
+  writePfm(f.depth, path.string());
+  const std::vector<unsigned char> bytes = readBytes(path);
+  BOOST_TEST(std::string(bytes.begin(), bytes.begin() + 3) == "Pf\n");
+  const Image back = readPfm(path.string());
+  BOOST_TEST(back.bitwiseEqual(f.depth));
+  const Image ids = f.instanceId.toFloat();
+  BOOST_TEST(ids.at(0, 0) == (f.instanceId.at(0, 0) == kInvalidId ? -1.0f : 0.0f));
+  std::filesystem::remove(path);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Image files
+
+BOOST_AUTO_TEST_CASE(pfm_round_trips_and_stores_bottom_row_first) {
+  Image img(3, 2, 3);
+  for (std::uint32_t y = 0; y < 2; ++y)
+    for (std::uint32_t x = 0; x < 3; ++x)
+      img.setRgb(x, y,
+                 {static_cast<float>(x), static_cast<float>(y), 0.5f + static_cast<float>(x * y)});
+  img.at(2, 1, 2) = -kInfinity;
+  const auto path = tempPath("rgb.pfm");
+  writePfm(img, path.string());
+  const std::vector<unsigned char> bytes = readBytes(path);
+  const std::string header = "PF\n3 2\n-1.0\n";
+  BOOST_REQUIRE(bytes.size() == header.size() + 3 * 2 * 3 * sizeof(float));
+  BOOST_TEST(std::string(bytes.begin(), bytes.begin() + static_cast<long>(header.size())) ==
+             header);
+  // The first stored pixel is (0, 1): the bottom row, little-endian.
+  float first[3];
+  std::memcpy(first, bytes.data() + header.size(), sizeof(first));
+  BOOST_TEST(first[0] == 0.0f);
+  BOOST_TEST(first[1] == 1.0f);
+  BOOST_TEST(first[2] == 0.5f);
+  BOOST_TEST(bytes[header.size() + 4 + 3] == 0x3F);  // 1.0f = 0x3F800000, high byte last
+  const Image back = readPfm(path.string());
+  BOOST_TEST(back.bitwiseEqual(img));
+
+  // Big-endian files (positive scale) are read too.
+  std::string be = "PF\n1 1\n1.0\n";
+  for (float v : {1.0f, 2.0f, -3.0f}) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    for (int k = 3; k >= 0; --k) be.push_back(static_cast<char>((bits >> (8 * k)) & 0xFFu));
+  }
+  writeBytes(path, be);
+  const Image big = readPfm(path.string());
+  BOOST_TEST((big.rgb(0, 0) == Vec3f{1.0f, 2.0f, -3.0f}));
+
+  writeBytes(path, "PF\n2 2\n-1.0\n1234");
+  BOOST_CHECK_EXCEPTION(readPfm(path.string()), Error, [&](const Error& e) {
+    return std::string(e.what()).find(path.string()) != std::string::npos;
+  });
+  BOOST_CHECK_THROW(writePfm(Image(2, 2, 2), path.string()), Error);
+  std::filesystem::remove(path);
+}
+
+BOOST_AUTO_TEST_CASE(png_is_srgb_encoded_and_textures_read_it_back) {
+  BOOST_TEST(std::abs(srgbEncode(0.5f) - 0.7353569f) < 1e-5f);
+  BOOST_TEST(std::abs(srgbDecode(srgbEncode(0.2f)) - 0.2f) < 1e-6f);
+  Image img(4, 2, 3);
+  for (std::uint32_t y = 0; y < 2; ++y)
+    for (std::uint32_t x = 0; x < 4; ++x)
+      img.setRgb(x, y, {0.25f * static_cast<float>(x), 0.5f * static_cast<float>(y), 0.18f});
+  img.at(3, 1, 0) = 7.0f;  // clamped
+  const auto path = tempPath("img.png");
+  writePng(img, path.string());
+  const Texture tex = Texture::load(path.string());  // sRGB decode on load
+  BOOST_TEST(tex.width() == 4u);
+  BOOST_TEST(tex.height() == 2u);
+  for (std::uint32_t y = 0; y < 2; ++y)
+    for (std::uint32_t x = 0; x < 4; ++x)
+      for (std::uint32_t c = 0; c < 3; ++c) {
+        const float expected = std::min(img.at(x, y, c), 1.0f);
+        BOOST_TEST(std::abs(tex.image().at(x, y, c) - expected) < 0.01f);
+      }
+  std::filesystem::remove(path);
+}
+
+BOOST_AUTO_TEST_CASE(ppm_textures_load_and_sample_with_repeat) {
+  const auto path = tempPath("tex.ppm");
+  // P6, 2x2, comments in the header, trailing garbage after the raster.
+  std::string p6 = "P6\n# a comment\n2 # another\n2\n255\n";
+  const unsigned char raster[12] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
+  p6.append(reinterpret_cast<const char*>(raster), 12);
+  p6 += "trailing bytes\n";
+  writeBytes(path, p6);
+  const Texture tex = Texture::load(path.string(), ColorEncoding::Linear);
+  BOOST_TEST((tex.texel(0, 0) == Vec3f{1, 0, 0}));  // first row of the file is v = 0
+  BOOST_TEST((tex.texel(1, 1) == Vec3f{1, 1, 1}));
+  BOOST_TEST((tex.sample({0.25f, 0.25f}, TextureFilter::Nearest) == Vec3f{1, 0, 0}));
+  BOOST_TEST((tex.sample({0.75f, 0.25f}, TextureFilter::Nearest) == Vec3f{0, 1, 0}));
+  BOOST_TEST((tex.sample({0.25f, 0.75f}, TextureFilter::Nearest) == Vec3f{0, 0, 1}));
+  // GL_REPEAT, including negative coordinates.
+  BOOST_TEST((tex.sample({1.25f, -0.75f}, TextureFilter::Nearest) == Vec3f{1, 0, 0}));
+  BOOST_TEST((tex.sample({-0.75f, 2.75f}, TextureFilter::Nearest) == Vec3f{0, 0, 1}));
+  BOOST_TEST((tex.sample({-1.25f, 3.75f}, TextureFilter::Nearest) == Vec3f{1, 1, 1}));
+  // Bilinear: exact at texel centres, the mean of all four at the shared corner, wrapping.
+  BOOST_TEST((tex.sample({0.25f, 0.25f}, TextureFilter::Bilinear) == Vec3f{1, 0, 0}));
+  const Vec3f mid = tex.sample({0.5f, 0.5f}, TextureFilter::Bilinear);
+  BOOST_TEST(std::abs(mid.x - 0.5f) < 1e-6f);
+  BOOST_TEST(std::abs(mid.y - 0.5f) < 1e-6f);
+  BOOST_TEST(std::abs(mid.z - 0.5f) < 1e-6f);
+  const Vec3f corner = tex.sample({0.0f, 0.0f}, TextureFilter::Bilinear);
+  BOOST_TEST(std::abs(corner.x - 0.5f) < 1e-6f);
+
+  // P3 with a 16-bit maxval; sRGB decoding by default.
+  writeBytes(path, "P3\n1 1\n65535\n65535 0 32768\n");
+  const Texture t3 = Texture::load(path.string());
+  BOOST_TEST(t3.texel(0, 0).x == 1.0f);
+  BOOST_TEST(std::abs(t3.texel(0, 0).z - srgbDecode(32768.0f / 65535.0f)) < 1e-6f);
+  // Binary 16-bit samples are big-endian.
+  std::string p6w = "P6 1 1 65535\n";
+  for (unsigned char b : {0xFF, 0xFF, 0x00, 0x00, 0x80, 0x00}) p6w.push_back(static_cast<char>(b));
+  writeBytes(path, p6w);
+  const Texture t16 = Texture::load(path.string(), ColorEncoding::Linear);
+  BOOST_TEST(std::abs(t16.texel(0, 0).z - 32768.0f / 65535.0f) < 1e-7f);
+
+  auto namesFile = [&](const Error& e) {
+    return std::string(e.what()).find(path.string()) != std::string::npos;
+  };
+  writeBytes(path, "P6\n4 4\n255\n" + std::string(10, 'x'));  // truncated raster
+  BOOST_CHECK_EXCEPTION(Texture::load(path.string()), Error, namesFile);
+  writeBytes(path, "P6\n4 4\n70000\n");  // maxval too large
+  BOOST_CHECK_EXCEPTION(Texture::load(path.string()), Error, namesFile);
+  writeBytes(path, "P3\n1 1\n255\n1 2 300\n");  // sample above maxval
+  BOOST_CHECK_EXCEPTION(Texture::load(path.string()), Error, namesFile);
+  writeBytes(path, "P6\n99999999 99999999\n255\n");  // absurd size
+  BOOST_CHECK_EXCEPTION(Texture::load(path.string()), Error, namesFile);
+  writeBytes(path, "not an image");
+  BOOST_CHECK_EXCEPTION(Texture::load(path.string()), Error, namesFile);
+  std::filesystem::remove(path);
+  BOOST_CHECK_EXCEPTION(Texture::load(path.string()), Error, namesFile);  // missing
+}
+
+BOOST_AUTO_TEST_CASE(textures_modulate_or_replace_the_diffuse_colour) {
+  TestScene ts;
+  Image img(1, 1, 3);
+  img.setRgb(0, 0, {0.5f, 0.25f, 1.0f});
+  ts.rs.textures.push_back(std::make_shared<const Texture>(std::move(img)));
+  Material m = diffuseMaterial({0.8f, 0.8f, 0.4f});
+  m.texture = 0;
+  ts.add(makeQuad({-10, 0, 10}, {20, 0, 0}, {0, 0, -20}), m);
+  ts.scene.commit();
+  ts.rs.directionalLights.push_back({{0, -1, 0}, {1, 1, 1}});
+  const Camera cam = Camera::lookAt({0, 5, 0}, {0, 0, 0}, {0, 0, -1}, 30.0f, 4, 4);
+  Frame f = render(ts, cam, settingsFor(RenderMode::Whitted));
+  BOOST_TEST(std::abs(f.beauty.at(1, 1, 0) - 0.4f) < 1e-6f);
+  BOOST_TEST(std::abs(f.beauty.at(1, 1, 2) - 0.4f) < 1e-6f);
+  ts.rs.materials[0].textureMode = TextureMode::Replace;
+  f = render(ts, cam, settingsFor(RenderMode::Whitted));
+  BOOST_TEST(std::abs(f.beauty.at(1, 1, 1) - 0.25f) < 1e-6f);
+}
+
+BOOST_AUTO_TEST_CASE(material_lookup_order_and_validation) {
+  TestScene ts;
+  ts.add(makeQuad({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), diffuseMaterial({1, 0, 0}));  // material 0
+  ts.rs.materials.push_back(diffuseMaterial({0, 1, 0}));                          // 1
+  ts.rs.materials.push_back(diffuseMaterial({0, 0, 1}));                          // 2
+  BOOST_TEST(ts.rs.materialIndex(0, 0, 1) == 0u);
+  ts.rs.primitiveMaterials = {{kInvalidId, 1}};
+  BOOST_TEST(ts.rs.materialIndex(0, 0, 0) == 0u);
+  BOOST_TEST(ts.rs.materialIndex(0, 0, 1) == 1u);
+  ts.rs.instanceMaterials = {2};
+  BOOST_TEST(ts.rs.materialIndex(0, 0, 1) == 2u);
+  BOOST_TEST(ts.rs.materialIndex(5, 7, 9) == kInvalidId);
+  BOOST_TEST((ts.rs.material(5, 7, 9).diffuse == Material{}.diffuse));
+  BOOST_TEST(ts.rs.validate().empty());
+  ts.rs.instanceMaterials = {3};
+  BOOST_TEST(!ts.rs.validate().empty());
+  ts.scene.commit();
+  Frame f;
+  BOOST_CHECK_THROW(Renderer().render(ts.rs, Camera(CameraParams{}), f), Error);
+  ts.rs.instanceMaterials = {};
+  ts.rs.materials[0].transmittance = 2.0f;
+  BOOST_TEST(!ts.rs.validate().empty());
+  BOOST_TEST((ts.rs.dynamicsClass(0) == DynamicsClass::Static));
+  BOOST_TEST((parseRenderMode("whitted").value() == RenderMode::Whitted));
+  BOOST_TEST(!parseRenderMode("raster").has_value());
+  BOOST_TEST(renderModeName(RenderMode::Instances) == "instances");
+  const Material nff = Material::fromNff({1.0f, 0.5f, 0.0f}, 0.8f, 0.2f, 10.0f, 0.0f, 0.0f);
+  BOOST_TEST((nff.diffuse == Vec3f{0.8f, 0.4f, 0.0f}));
+  BOOST_TEST((nff.specular == Vec3f{0.2f, 0.2f, 0.2f}));
+}
