@@ -39,7 +39,8 @@ bool Affine3<T>::isSingular() const {
   const double det = static_cast<double>(determinant());
   double colProduct = 1.0;
   for (int c = 0; c < 3; ++c) {
-    const double x = m[0][c], y = m[1][c], z = m[2][c];
+    const auto x = static_cast<double>(m[0][c]), y = static_cast<double>(m[1][c]),
+               z = static_cast<double>(m[2][c]);
     colProduct *= std::sqrt(x * x + y * y + z * z);
   }
   // Hadamard: |det| <= product of column lengths, with equality for orthogonal columns.

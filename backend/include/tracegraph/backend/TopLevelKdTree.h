@@ -9,6 +9,14 @@
 
 namespace tg {
 
+namespace detail {
+/// An instance's world box and index, as the top-level builder moves it between node lists.
+struct TopLevelBuildItem {
+  float lower[3], upper[3];
+  std::uint32_t instance;
+};
+}  // namespace detail
+
 /// Top-level kd-tree (Wald, Benthin, Slusallek 2003, Algorithm 1): each cell is split in its
 /// dimension of largest extent, only at a border of an instance box, choosing the border
 /// nearest the point halfway between the cell centre and the object median. Rebuilt from
@@ -32,6 +40,9 @@ class TopLevelKdTree final : public TopLevelAccel {
   std::vector<std::uint32_t> refs_;  ///< indices into instances_, grouped by leaf
   Box3f bounds_;
   TopLevelStats stats_;
+  // Build scratch, kept between builds so that the per-frame rebuild reuses its memory.
+  std::vector<detail::TopLevelBuildItem> buildItems_;  ///< stack of the nodes' instance lists
+  std::vector<float> centres_;                         ///< box centres of one node along one axis
 };
 
 }  // namespace tg

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "tracegraph/backend/DynamicsClass.h"
 #include "tracegraph/backend/Ray.h"
 #include "tracegraph/backend/Scene.h"
 #include "tracegraph/backend/render/Light.h"
@@ -15,13 +16,6 @@
 #include "tracegraph/backend/render/Texture.h"
 
 namespace tg {
-
-/// How an instance behaves over time (Wald et al. 2003's classes), shown by the `classes` mode.
-enum class DynamicsClass : std::uint8_t {
-  Static,     ///< never moves
-  Rigid,      ///< moves as a whole (matrix changes only)
-  Deforming,  ///< its points change (object rebuilt)
-};
 
 /// The shading side of a frame. Plain data: fill the vectors, then render. The renderer only
 /// reads it, so one RenderScene may serve several concurrent renders.
