@@ -4,5 +4,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh release
-./build/samples/tg-demo -o demo.png
+./build/samples/tg-render/tg-render -o demo.png
 echo "demo: wrote $(pwd)/demo.png"

@@ -1,5 +1,7 @@
 #include "tracegraph/backend/render/ImageIO.h"
 
+#include "tracegraph/backend/Ray.h"
+
 #include <stb_image_write.h>
 
 #include <algorithm>
@@ -110,6 +112,16 @@ Image readPfm(const std::string& path) {
     std::memcpy(image.data().data() + y * rowValues, row.data(), rowValues * sizeof(float));
   }
   return image;
+}
+
+void writeIdPfm(const IdImage& ids, const std::string& path) {
+  Image image(ids.width(), ids.height(), 1);
+  for (std::uint32_t y = 0; y < ids.height(); ++y)
+    for (std::uint32_t x = 0; x < ids.width(); ++x) {
+      const std::uint32_t id = ids.at(x, y);
+      image.at(x, y) = id == kInvalidId ? -1.0f : static_cast<float>(id);
+    }
+  writePfm(image, path);
 }
 
 }  // namespace tg

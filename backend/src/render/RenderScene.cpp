@@ -61,6 +61,17 @@ std::string RenderScene::validate() const {
                                "RenderScene: instance " + std::to_string(i));
     if (!p.empty()) return p;
   }
+  for (std::size_t i = 0; i < instanceMaterialRanges.size(); ++i) {
+    const auto& ranges = instanceMaterialRanges[i];
+    for (std::size_t k = 0; k < ranges.size(); ++k) {
+      if (k > 0 && ranges[k].primBegin < ranges[k - 1].primBegin)
+        return "RenderScene: instance " + std::to_string(i) + ": material ranges not sorted";
+      std::string p = checkIndex(ranges[k].material, materials.size(),
+                                 "RenderScene: instance " + std::to_string(i) + " range " +
+                                     std::to_string(k));
+      if (!p.empty()) return p;
+    }
+  }
   for (const PointLight& l : pointLights)
     if (!isFinite(l.position) || !isFinite(l.color)) return "RenderScene: point light is NaN";
   for (const DirectionalLight& l : directionalLights)

@@ -33,6 +33,8 @@ void writePng(const Image& image, const std::string& path,
 /// specifies. Throws tg::Error naming the file on failure or for other channel counts.
 void writePfm(const Image& image, const std::string& path);
 
+/// Writes an id buffer as a one-channel PFM: the id as a float, -1 for kInvalidId (no hit).
+void writeIdPfm(const IdImage& ids, const std::string& path);
 /// Reads a PFM written by writePfm or any standard writer (either byte order, any positive
 /// scale, which is ignored). Row 0 of the result is the top row. Throws tg::Error naming the
 /// file for malformed or truncated files.

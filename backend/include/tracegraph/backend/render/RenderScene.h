@@ -23,6 +23,9 @@ namespace tg {
 /// Material lookup for a hit (instance i, object o, primitive p), first match wins:
 ///  1. instanceMaterials[i] when present and not kInvalidId (per-instance override, e.g. a
 ///     highlighted selection or a scene-graph Material node above a shared object);
+///  1b. instanceMaterialRanges[i] when non-empty: the range with the largest primBegin <= p
+///     (a scene graph merges meshes with different materials into one object, and two
+///     instances of a shared object may sit under different materials);
 ///  2. primitiveMaterials[o][p] when that table is non-empty and the entry is not kInvalidId
 ///     (NFF/AFF files switch material between the polygons of one object);
 ///  3. objectMaterials[o] when present and not kInvalidId;
@@ -45,6 +48,14 @@ struct RenderScene {
   std::vector<std::vector<std::uint32_t>> primitiveMaterials;
   std::vector<std::uint32_t> instanceMaterials;  ///< by InstanceId: override, or kInvalidId
 
+  /// A material for the triangles from primBegin up to the next range's primBegin.
+  struct MaterialRange {
+    std::uint32_t primBegin = 0;
+    std::uint32_t material = kInvalidId;
+  };
+  /// By InstanceId: empty, or ranges sorted by primBegin (the first starting at 0).
+  std::vector<std::vector<MaterialRange>> instanceMaterialRanges;
+
   /// By InstanceId: dynamics class for the `classes` mode. Instances without an entry take it
   /// from their object's usage (Static, Rigid, Deforming map one to one).
   std::vector<DynamicsClass> instanceClasses;
@@ -54,6 +65,16 @@ struct RenderScene {
                               std::uint32_t primId) const {
     if (instanceId < instanceMaterials.size() && instanceMaterials[instanceId] != kInvalidId)
       return instanceMaterials[instanceId];
+    if (instanceId < instanceMaterialRanges.size() && !instanceMaterialRanges[instanceId].empty()) {
+      const std::vector<MaterialRange>& ranges = instanceMaterialRanges[instanceId];
+      // Few ranges per instance: a binary search for the last range starting at or before p.
+      std::size_t lo = 0, hi = ranges.size();
+      while (hi - lo > 1) {
+        const std::size_t mid = (lo + hi) / 2;
+        if (ranges[mid].primBegin <= primId) lo = mid; else hi = mid;
+      }
+      if (ranges[lo].material != kInvalidId) return ranges[lo].material;
+    }
     if (objectId < primitiveMaterials.size()) {
       const std::vector<std::uint32_t>& perPrim = primitiveMaterials[objectId];
       if (primId < perPrim.size() && perPrim[primId] != kInvalidId) return perPrim[primId];
