@@ -95,7 +95,7 @@ int run(const RenderOptions& o) {
       renderer.render(renderer.camera(width, height), frame, &stats);
       writeFrame(frame, naming, numbers[i], o.aovs);
       if (video) video->write(frame.beauty);
-      rays += stats.rays;
+      rays += stats.rays.total();
       renderMs += stats.renderMs;
       allStats.push_back(stats);
       progress.update(static_cast<int>(i + 1));

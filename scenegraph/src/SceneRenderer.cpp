@@ -147,7 +147,7 @@ RenderStats SceneRenderer::render(const Camera& camera, Frame& frame, FrameStats
   const RenderStats r = renderer_.render(scene_, camera, frame);
   if (stats) {
     stats->renderMs = r.traceShadeMs;
-    stats->rays = r.traced.total();
+    stats->rays = r.traced;
   }
   return r;
 }

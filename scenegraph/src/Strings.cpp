@@ -61,7 +61,11 @@ std::string toJson(const FrameStats& s) {
   j += ",\"rebuild_ms\":" + number(s.rebuildMs);
   j += ",\"toplevel_ms\":" + number(s.toplevelMs);
   j += ",\"render_ms\":" + number(s.renderMs);
-  j += ",\"rays\":" + std::to_string(s.rays) + "}";
+  j += ",\"rays\":{\"primary\":" + std::to_string(s.rays.primary) +
+       ",\"shadow\":" + std::to_string(s.rays.shadow) +
+       ",\"reflection\":" + std::to_string(s.rays.reflection) +
+       ",\"refraction\":" + std::to_string(s.rays.refraction) +
+       ",\"total\":" + std::to_string(s.rays.total()) + "}}";
   return j;
 }
 

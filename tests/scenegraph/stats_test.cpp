@@ -22,12 +22,13 @@ BOOST_AUTO_TEST_CASE(json_has_exactly_the_documented_keys) {
   s.rebuildMs = 0.5;
   s.toplevelMs = 0.125;
   s.renderMs = 10;
-  s.rays = 12345;
+  s.rays = {1000, 2000, 300, 45};
   BOOST_TEST(toJson(s) ==
              "{\"frame\":7,\"time\":0.25,\"triangles\":{\"static\":100,\"rigid\":20,"
              "\"deforming\":3},\"instances\":4,\"objects_rebuilt\":1,\"triangles_rebuilt\":3,"
              "\"reclassified\":2,\"sync_ms\":1.5,\"rebuild_ms\":0.5,\"toplevel_ms\":0.125,"
-             "\"render_ms\":10,\"rays\":12345}");
+             "\"render_ms\":10,\"rays\":{\"primary\":1000,\"shadow\":2000,\"reflection\":300,"
+             "\"refraction\":45,\"total\":3345}}");
 }
 
 BOOST_AUTO_TEST_CASE(sync_fills_the_frame_statistics) {

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <string>
 
+#include "tracegraph/backend/render/RenderStats.h"
+
 namespace tg {
 
 /// Triangles held by instances of each dynamics class (instanced counts: a shared object
@@ -30,12 +32,12 @@ struct FrameStats {
   double rebuildMs = 0.0;        ///< object builds (parallel)
   double toplevelMs = 0.0;       ///< top-level build
   double renderMs = 0.0;         ///< filled by the renderer
-  std::uint64_t rays = 0;        ///< filled by the renderer
+  RayCounts rays;                ///< rays traced by kind, filled by the renderer
 };
 
 /// One frame as a single-line JSON object with the keys frame, time, triangles {static,
 /// rigid, deforming}, instances, objects_rebuilt, triangles_rebuilt, reclassified, sync_ms,
-/// rebuild_ms, toplevel_ms, render_ms, rays.
+/// rebuild_ms, toplevel_ms, render_ms, rays {primary, shadow, reflection, refraction, total}.
 std::string toJson(const FrameStats& stats);
 
 }  // namespace tg
