@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "tracegraph/backend/Error.h"
+#include "tracegraph/loaders/AffLoader.h"
 #include "tracegraph/loaders/DemoScene.h"
 
 namespace tg {
@@ -45,7 +46,22 @@ SceneSource loadSceneSource(const std::optional<std::string>& path, double fps) 
     throw Error(*path + ": no such file");
   s.name = file.filename().string();
   const std::string ext = lowerExtension(file);
-  throw Error(*path + ": no loader for '" + ext + "' files in this build");
+  if (ext == ".aff" || ext == ".nff") {
+    AffScene aff = loadAff(file);
+    s.root = aff.root;
+    s.look = aff.look();
+    // BART's `a start end N` is the scene's own frame range; files without it animate from 0.
+    s.timing = aff.animation.present
+                   ? SceneTiming{aff.animation.start, aff.animation.end, aff.animation.frames}
+                   : SceneTiming{};
+    if (aff.width > 0 && aff.height > 0)
+      s.resolution = {static_cast<std::uint32_t>(aff.width),
+                      static_cast<std::uint32_t>(aff.height)};
+    s.textureFolders = aff.textureFolders;
+    s.warnings = std::move(aff.warnings);
+    return s;
+  }
+  throw Error(*path + ": no loader for '" + ext + "' files (known: .aff, .nff)");
 }
 
 }  // namespace tg
