@@ -10,10 +10,18 @@
 namespace tg {
 
 namespace detail {
-/// An instance's world box and index, as the top-level builder moves it between node lists.
-struct TopLevelBuildItem {
+/// An instance's world box and index, as the top-level builder moves it between node lists
+/// (padded to 32 bytes: the builder copies items as two 16-byte halves).
+struct alignas(16) TopLevelBuildItem {
   float lower[3], upper[3];
-  std::uint32_t instance;
+  std::uint32_t instance, padding;
+};
+
+/// Scratch buffers of the top-level build.
+struct TopLevelBuildScratch {
+  std::vector<TopLevelBuildItem> items;  ///< stack of the nodes' instance lists
+  std::vector<float> centres;            ///< box centres of one node along one axis
+  std::vector<float> borders;            ///< box borders of one node along one axis
 };
 }  // namespace detail
 
@@ -30,8 +38,11 @@ class TopLevelKdTree final : public TopLevelAccel {
   bool occluded(const Ray& ray, TraversalContext& ctx) const override;
   const TopLevelStats& stats() const override { return stats_; }
 
+  /// The tree's nodes (root first), for validation and statistics.
   const std::vector<KdNode>& nodes() const { return nodes_; }
+  /// Instance indices of the leaves, grouped by leaf.
   const std::vector<std::uint32_t>& references() const { return refs_; }
+  /// World bounds of the non-empty instances at the last build.
   const Box3f& bounds() const { return bounds_; }
 
  private:
@@ -40,9 +51,8 @@ class TopLevelKdTree final : public TopLevelAccel {
   std::vector<std::uint32_t> refs_;  ///< indices into instances_, grouped by leaf
   Box3f bounds_;
   TopLevelStats stats_;
-  // Build scratch, kept between builds so that the per-frame rebuild reuses its memory.
-  std::vector<detail::TopLevelBuildItem> buildItems_;  ///< stack of the nodes' instance lists
-  std::vector<float> centres_;                         ///< box centres of one node along one axis
+  /// Build scratch, kept between builds so that the per-frame rebuild reuses its memory.
+  detail::TopLevelBuildScratch scratch_;
 };
 
 }  // namespace tg
