@@ -8,6 +8,8 @@ packages=(
   libtbb-dev libglm-dev libboost-test-dev libstb-dev libpugixml-dev libassimp-dev
   libglfw3-dev libcli11-dev libembree-dev
   doxygen clang clang-format xvfb xauth python3
+  # tg-view: OpenGL headers, and Mesa's software rasteriser for its test under Xvfb
+  libgl-dev libgl1-mesa-dri
 )
 
 missing=()

@@ -13,6 +13,7 @@ namespace tg {
 /// Affine transform p' = L p + t stored row-major as 3 rows of (L | t), acting on column vectors.
 template <typename T>
 struct Affine3 {
+  /// Rows of (L | t); the identity by default.
   T m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
 
   constexpr Affine3() = default;
@@ -23,12 +24,15 @@ struct Affine3 {
       for (int c = 0; c < 4; ++c) m[r][c] = static_cast<T>(o.m[r][c]);
   }
 
+  /// The identity transform.
   static constexpr Affine3 identity() { return Affine3{}; }
+  /// Translation by t.
   static constexpr Affine3 translation(const Vec3<T>& t) {
     Affine3 a;
     a.m[0][3] = t.x; a.m[1][3] = t.y; a.m[2][3] = t.z;
     return a;
   }
+  /// Scaling by s along the axes.
   static constexpr Affine3 scaling(const Vec3<T>& s) {
     Affine3 a;
     a.m[0][0] = s.x; a.m[1][1] = s.y; a.m[2][2] = s.z;
@@ -44,11 +48,13 @@ struct Affine3 {
     return a;
   }
 
+  /// L p + t: maps a point.
   constexpr Vec3<T> transformPoint(const Vec3<T>& p) const {
     return {m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3],
             m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3],
             m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
   }
+  /// L v: maps a direction (no translation).
   constexpr Vec3<T> transformVector(const Vec3<T>& v) const {
     return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
             m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
@@ -63,6 +69,7 @@ struct Affine3 {
             m[0][2] * n.x + m[1][2] * n.y + m[2][2] * n.z};
   }
 
+  /// Composition: applies b first, then this transform.
   constexpr Affine3 operator*(const Affine3& b) const {
     Affine3 r;
     for (int i = 0; i < 3; ++i) {
@@ -75,6 +82,7 @@ struct Affine3 {
     return r;
   }
 
+  /// Determinant of the linear part L.
   constexpr T determinant() const {
     return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
            m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
@@ -92,6 +100,7 @@ struct Affine3 {
   /// Conservative bounds of a transformed box: the box of its 8 transformed corners.
   Box3<T> transformBox(const Box3<T>& b) const;
 
+  /// Exact equality of every entry.
   constexpr bool operator==(const Affine3& o) const {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c)
@@ -100,7 +109,9 @@ struct Affine3 {
   }
 };
 
+/// Float matrices, as stored for traversal.
 using Affine3f = Affine3<float>;
+/// Double matrices, as composed and inverted.
 using Affine3d = Affine3<double>;
 
 extern template struct Affine3<float>;

@@ -12,7 +12,10 @@ namespace tg {
 
 /// A triangle's three vertices, copied out of the mesh for cache-friendly leaf tests.
 struct TriangleVertices {
+  ///@{
+  /// The vertices, in the mesh's winding order.
   Vec3f v0, v1, v2;
+  ///@}
 };
 
 /// An 8-byte kd-tree node (pbrt/Havran layout).
@@ -22,21 +25,31 @@ struct TriangleVertices {
 /// the next node in the array. Leaf: `flags & 3 == 3`, `flags >> 2` the number of triangle
 /// references and `bits` the first of them in KdTree::primIndices.
 struct KdNode {
+  /// Split position (inner) or first reference (leaf).
   std::uint32_t bits = 0;
+  /// Low 2 bits: axis, or 3 for a leaf; higher bits: above child (inner) or count (leaf).
   std::uint32_t flags = 3;
 
+  /// A leaf of `count` references starting at `firstRef`.
   static KdNode makeLeaf(std::uint32_t firstRef, std::uint32_t count) {
     return KdNode{firstRef, (count << 2) | 3u};
   }
+  /// An inner node splitting `axis` at `split`.
   static KdNode makeInner(int axis, float split, std::uint32_t aboveChild) {
     return KdNode{std::bit_cast<std::uint32_t>(split),
                   (aboveChild << 2) | static_cast<std::uint32_t>(axis)};
   }
+  /// True for leaves.
   bool isLeaf() const { return (flags & 3u) == 3u; }
+  /// Split axis of an inner node (0: x, 1: y, 2: z).
   int axis() const { return static_cast<int>(flags & 3u); }
+  /// Split position of an inner node.
   float split() const { return std::bit_cast<float>(bits); }
+  /// Index of the child above the split plane (inner node).
   std::uint32_t aboveChild() const { return flags >> 2; }
+  /// Number of triangle references (leaf).
   std::uint32_t primCount() const { return flags >> 2; }
+  /// Index of the first reference in KdTree::primIndices (leaf).
   std::uint32_t firstPrim() const { return bits; }
 };
 
@@ -47,9 +60,11 @@ inline constexpr std::uint32_t kKdMaxLeafCount = (1u << 30) - 1;
 
 /// A built kd-tree: nodes (root at index 0), leaf reference lists and the bounds it covers.
 struct KdTree {
+  /// The nodes, root first.
   std::vector<KdNode> nodes;
   std::vector<std::uint32_t> primIndices;  ///< triangle ids, grouped by leaf
   Box3f bounds;                            ///< root cell (bounds of non-degenerate triangles)
+  /// What the build produced.
   BuildStats stats;
 };
 

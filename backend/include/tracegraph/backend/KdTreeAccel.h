@@ -13,6 +13,7 @@ namespace tg {
 /// A kd-tree over one mesh; `kind` chooses the builder.
 class KdTreeAccel final : public ObjectAccel {
  public:
+  /// An unbuilt tree; `kind` chooses the builder.
   explicit KdTreeAccel(AccelKind kind) : kind_(kind) {}
 
   AccelKind kind() const override { return kind_; }
@@ -26,7 +27,9 @@ class KdTreeAccel final : public ObjectAccel {
   }
   const BuildStats& stats() const override { return tree_.stats; }
 
+  /// The built tree (for tests and statistics).
   const KdTree& tree() const { return tree_; }
+  /// The triangles the tree indexes, in mesh order.
   const std::vector<TriangleVertices>& triangles() const { return triangles_; }
 
  private:

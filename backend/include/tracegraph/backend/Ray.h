@@ -11,6 +11,7 @@ namespace tg {
 
 /// Marks "no id" in hit records and id tables.
 inline constexpr std::uint32_t kInvalidId = 0xFFFFFFFFu;
+/// Float infinity: tfar of unbounded rays, t of no hit.
 inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 /// A ray origin + t * direction for t in the closed interval [tnear, tfar].
@@ -19,9 +20,13 @@ inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
 /// need not be unit length; hit distances are in units of the direction's length, and the
 /// two-level traversal keeps them comparable across instances by never renormalising it.
 struct Ray {
+  /// Start point.
   Vec3f origin;
+  /// Smallest t that counts.
   float tnear = 0.0f;
+  /// Direction; t is measured in units of its length.
   Vec3f direction{0.0f, 0.0f, 1.0f};
+  /// Largest t that counts.
   float tfar = kInfinity;
 };
 
@@ -31,16 +36,23 @@ struct Ray {
 /// (instanceId, primId) wins, so the answer never depends on traversal order, accelerator or
 /// thread count (hard case 2).
 struct Hit {
+  /// Distance along the ray in units of its direction; kInfinity: no hit.
   float t = kInfinity;
+  ///@{
   /// Barycentrics: the hit point is (1-u-v)*v0 + u*v1 + v*v2 of the object-space triangle.
   float u = 0.0f, v = 0.0f;
+  ///@}
+  /// Instance hit (Scene::createInstance id).
   std::uint32_t instanceId = kInvalidId;
+  /// Object of that instance.
   std::uint32_t objectId = kInvalidId;
+  /// Triangle index within the object; kInvalidId: no hit.
   std::uint32_t primId = kInvalidId;
   /// World-space geometric normal, unit length, cross(v1-v0, v2-v0) mapped by the inverse
   /// transpose of the instance matrix.
   Vec3f geometricNormal;
 
+  /// True when something was hit.
   bool valid() const { return primId != kInvalidId; }
 };
 

@@ -21,9 +21,13 @@ namespace tg {
 
 /// A reference answer.
 struct ReferenceHit {
+  /// True when a triangle is hit.
   bool hit = false;
+  /// Distance of the closest hit, in double.
   double t = 0.0;
+  /// Instance of the closest hit.
   std::uint32_t instanceId = kInvalidId;
+  /// Triangle of the closest hit.
   std::uint32_t primId = kInvalidId;
   /// Hit/miss could flip under float rounding (grazing an edge, or t at tnear/tfar).
   bool hitAmbiguous = false;
@@ -37,6 +41,7 @@ class ReferenceIntersector {
   /// Flattens the committed state of `scene` (every live instance of every object).
   explicit ReferenceIntersector(const Scene& scene);
 
+  /// Closest hit in [tnear, tfar], with its ambiguity flags.
   ReferenceHit intersect(const Ray& ray) const;
   /// Any hit in [tnear, tfar]; `ambiguous` (optional) is set when the answer could flip.
   bool occluded(const Ray& ray, bool* ambiguous = nullptr) const;
@@ -47,6 +52,7 @@ class ReferenceIntersector {
   /// and hit point, divided by the direction's length.
   static double tolerance(const Ray& ray, double t);
 
+  /// Triangles of the flattened scene.
   std::size_t triangleCount() const { return triangles_.size(); }
 
  private:

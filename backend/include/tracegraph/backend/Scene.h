@@ -16,7 +16,9 @@
 
 namespace tg {
 
+/// Id of an object (a mesh and its accelerator) in a Scene.
 using ObjectId = std::uint32_t;
+/// Id of an instance (an object placed by a matrix) in a Scene.
 using InstanceId = std::uint32_t;
 
 /// How an object's geometry behaves over time; it chooses the accelerator builder.
@@ -28,17 +30,23 @@ enum class ObjectUsage : std::uint8_t {
 
 /// Options fixed when a scene is created.
 struct SceneOptions {
+  /// Accelerator over the instances.
   TopLevelKind topLevel = TopLevelKind::KdTree;
   /// Accelerator kinds per usage; callers of later engines change these, not their code.
   AccelKind staticAccel = AccelKind::SahKdTree;
+  /// Accelerator of deforming objects.
   AccelKind deformingAccel = AccelKind::FastKdTree;
 };
 
 /// What one commit() did, for per-frame statistics.
 struct CommitStats {
+  /// Objects whose accelerator was (re)built.
   std::size_t objectsRebuilt = 0;
+  /// Triangles in those objects.
   std::size_t trianglesRebuilt = 0;
+  /// Instances created, moved or destroyed.
   std::size_t instancesUpdated = 0;
+  /// True when the top level was rebuilt.
   bool topLevelRebuilt = false;
   double rebuildMs = 0.0;   ///< wall time of the (parallel) object builds
   double topLevelMs = 0.0;  ///< wall time of the top-level build
@@ -52,6 +60,7 @@ struct CommitStats {
 /// arguments first and throws tg::Error naming the call, leaving the scene unchanged.
 class Scene {
  public:
+  /// An empty scene built with `options`.
   explicit Scene(const SceneOptions& options = {});
   ~Scene();
   Scene(const Scene&) = delete;
@@ -67,15 +76,20 @@ class Scene {
   void destroyObject(ObjectId object);
   /// The mesh as last committed (or as created, before the first commit).
   const TriangleMesh& objectMesh(ObjectId object) const;
+  /// The usage given at createObject.
   ObjectUsage objectUsage(ObjectId object) const;
   /// The object's accelerator, or null before its first build.
   const ObjectAccel* objectAccel(ObjectId object) const;
 
   /// Places an object in the world. The matrix must be finite and non-singular.
   InstanceId createInstance(ObjectId object, const Affine3d& objectToWorld = Affine3d{});
+  /// Moves an instance: replaces its object-to-world matrix (same checks as createInstance).
   void setInstanceTransform(InstanceId instance, const Affine3d& objectToWorld);
+  /// An instance's object-to-world matrix.
   const Affine3d& instanceTransform(InstanceId instance) const;
+  /// The object an instance places.
   ObjectId instanceObject(InstanceId instance) const;
+  /// Removes an instance (its object stays).
   void destroyInstance(InstanceId instance);
 
   /// Builds changed objects (in parallel with oneTBB) and rebuilds the top level when any
@@ -87,18 +101,24 @@ class Scene {
   /// Closest hit in [ray.tnear, ray.tfar]; fills every field of `hit` including the world
   /// normal. Rays with a NaN/Inf origin or a zero/NaN/Inf direction never hit.
   bool intersect(const Ray& ray, Hit& hit) const;
+  /// Closest hit, with caller-owned scratch state and statistics.
   bool intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const;
   /// Any hit in [ray.tnear, ray.tfar].
   bool occluded(const Ray& ray) const;
+  /// Any hit, with caller-owned scratch state and statistics.
   bool occluded(const Ray& ray, TraversalContext& ctx) const;
 
   /// World bounds of the committed scene.
   Box3f bounds() const;
+  /// Live objects.
   std::size_t objectCount() const;
+  /// Live instances.
   std::size_t instanceCount() const;
   /// Triangles summed over instances (what a flattened copy would hold).
   std::size_t instancedTriangleCount() const;
+  /// The top-level accelerator of the committed state.
   const TopLevelAccel& topLevel() const;
+  /// The options the scene was created with.
   const SceneOptions& options() const;
 
   /// Interpolated shading data at a hit (for renderers): world-space shading normal (the
@@ -108,8 +128,10 @@ class Scene {
     Vec3f geometricNormal; ///< unit, world space
     Vec3f shadingNormal;   ///< unit, world space, interpolated when the mesh has normals
     Vec2f uv;              ///< interpolated, or (u, v) barycentrics when the mesh has none
+    /// True when uv comes from the mesh's texture coordinates.
     bool hasUv = false;
   };
+  /// Shading data at `hit`, which `ray` found in this scene.
   SurfaceData surfaceAt(const Ray& ray, const Hit& hit) const;
 
  private:

@@ -16,15 +16,23 @@ namespace tg {
 
 /// Per-ray constants of the watertight test, computed once per (object-space) ray.
 struct WatertightRay {
+  /// Origin (float).
   Vec3f origin;
+  /// Direction (float, not normalised).
   Vec3f direction;
   /// The same ray in double: the world ray mapped by the instance's double inverse matrix. The
   /// inside test uses the float ray; t is refined on this one (see intersectWatertight).
   Vec3d originD;
+  /// Direction in double (see originD).
   Vec3d directionD{0.0, 0.0, 1.0};
+  /// Smallest t that counts.
   float tnear = 0.0f;
+  ///@{
   int kx = 0, ky = 1, kz = 2;  ///< axis permutation: kz = dominant direction axis
+  ///@}
+  ///@{
   float sx = 0.0f, sy = 0.0f, sz = 1.0f;  ///< shear constants
+  ///@}
 
   WatertightRay() = default;
   /// `direction` must be finite and non-zero (the scene rejects other rays before traversal).
@@ -52,7 +60,10 @@ struct WatertightRay {
 
 /// Distance and barycentrics of a triangle hit.
 struct TriangleHit {
+  ///@{
+  /// Distance along the ray and barycentrics of vertices b and c.
   float t = 0.0f, u = 0.0f, v = 0.0f;
+  ///@}
 };
 
 /// Tests the triangle (a, b, c) against the ray for t in [ray.tnear, tfar]. Degenerate

@@ -10,12 +10,16 @@ namespace tg {
 
 /// What makeDemoScene() builds, with the counts its test asserts.
 struct DemoScene {
+  /// Root of the scene, for SceneGraph::setRoot.
   ref_ptr<Node> root;
+  /// Background and ambient light.
   SceneLook look;
   double duration = 8.0;  ///< seconds of animation; the loop repeats after it
+  ///@{
   /// Triangles the classifier should put in each class (static room, mirror, glass and
   /// pedestal; the two-part robot arm; the wave).
   std::size_t staticTriangles = 0, rigidTriangles = 0, deformingTriangles = 0;
+  ///@}
 };
 
 /// Builds the demo: a static room with a mirror and a glass sphere, a robot arm whose shoulder

@@ -16,7 +16,10 @@ namespace tg {
 /// Quaternion w + xi + yj + zk in double precision. Rotation keys are unit quaternions; the
 /// logarithm of one is a pure quaternion, returned here as its vector part.
 struct Quatd {
+  ///@{
+  /// Real part w and imaginary parts x, y, z.
   double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
+  ///@}
 
   /// Rotation by `radians` (right-handed) about `axis`. The axis is normalised first because
   /// 28 robots tracks have axes of length 1.077 or 0.971; a zero axis gives the identity.

@@ -17,8 +17,11 @@ namespace tg {
 
 /// The frames a scene offers: its own range (BART `a start end N`) or `fps` from time 0.
 struct SceneTiming {
+  /// Time of the first frame, seconds.
   double start = 0.0;
+  /// Time of the last frame, seconds.
   double end = 0.0;
+  /// Number of frames, at least 1.
   int frames = 1;
   /// Time of frame f.
   double timeOf(int f) const {
@@ -29,11 +32,16 @@ struct SceneTiming {
 /// A loaded scene, ready to put into a SceneGraph.
 struct SceneSource {
   std::string name;  ///< file name, or "built-in demo"
+  /// Root of the scene, for SceneGraph::setRoot.
   ref_ptr<Node> root;
+  /// Background and ambient light, from the file.
   SceneLook look;
+  /// The frames the scene offers.
   SceneTiming timing;
   std::optional<std::pair<std::uint32_t, std::uint32_t>> resolution;  ///< the scene's own
+  /// Where texture names resolve, for SceneRenderer::setTextureSearchPath.
   std::vector<std::filesystem::path> textureFolders;
+  /// What the loader dropped or approximated, one line each.
   std::vector<std::string> warnings;
 };
 

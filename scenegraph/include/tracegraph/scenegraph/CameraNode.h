@@ -11,7 +11,9 @@ namespace tg {
 /// A perspective camera. As in VRML, an unrotated camera looks along -Z with +Y up;
 /// `orientation` rotates that frame and `position` places it (in the node's frame).
 struct CameraData {
+  /// Eye position.
   Vec3f position{0.0f, 0.0f, 10.0f};
+  /// Rotation of the default view (along -Z, +Y up).
   Rotation orientation;
   float fov = 0.785398f;  ///< full vertical field of view, radians
   float hither = 0.01f;   ///< near distance: primary rays start this far along the view ray

@@ -25,7 +25,9 @@ struct FrameStats {
   double time = 0.0;          ///< clock time of the frame, seconds
   TriangleCounts triangles;   ///< triangles by dynamics class
   std::size_t instances = 0;  ///< backend instances
+  /// Backend objects whose accelerator was (re)built.
   std::size_t objectsRebuilt = 0;
+  /// Triangles in those objects.
   std::size_t trianglesRebuilt = 0;
   std::size_t reclassified = 0;  ///< nodes whose dynamics class changed this frame
   double syncMs = 0.0;           ///< whole sync, including rebuildMs and toplevelMs

@@ -16,9 +16,13 @@ enum class LightKind : std::uint8_t { Point, Directional, Spot };
 /// A light's parameters. LightNode::lightData() gives them in the node's own frame; the
 /// SceneGraph maps position and direction through the current matrix to world space.
 struct LightData {
+  /// Point, directional or spot.
   LightKind kind = LightKind::Point;
+  /// False: the light contributes nothing.
   bool on = true;
+  /// Linear RGB colour.
   Color color{1.0f, 1.0f, 1.0f};
+  /// Scale of the colour.
   float intensity = 1.0f;
   Vec3f position{0.0f, 0.0f, 1.0f};     ///< point and spot lights
   Vec3f direction{0.0f, 0.0f, -1.0f};   ///< directional and spot lights (unit in world space)

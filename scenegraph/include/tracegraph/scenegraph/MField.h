@@ -17,6 +17,7 @@ namespace tg {
 template <typename T>
 class MField final : public Field {
  public:
+  /// The element type.
   using value_type = T;
 
   /// Declares the field inside `owner` (call from the owner's member initialisers).

@@ -13,6 +13,7 @@ class Node;
 /// child was added or removed.
 struct Notification {
   Node* source = nullptr;  ///< the node that changed
+  /// What changed.
   ChangeKind kind = ChangeKind::None;
   const Field* field = nullptr;  ///< the field that changed, or null (structure changes)
   const Node* child = nullptr;   ///< the child added/removed by a structure change, or null

@@ -11,14 +11,20 @@ namespace tg {
 /// Rotation by `angle` radians about `axis` (right-handed), the value type of SFRotation.
 /// A zero axis means no rotation.
 struct Rotation {
+  /// Axis of rotation (need not be unit).
   Vec3f axis{0.0f, 0.0f, 1.0f};
+  /// Angle in radians, right-handed about the axis.
   float angle = 0.0f;
+  /// Exact equality of axis and angle.
   bool operator==(const Rotation&) const = default;
 };
 
 /// Unit quaternion w + xi + yj + zk in double, for composition and slerp.
 struct Quaternion {
+  ///@{
+  /// Real part w and imaginary parts x, y, z.
   double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
+  ///@}
 };
 
 /// The quaternion of a rotation (identity for a zero axis).

@@ -15,6 +15,7 @@ namespace tg {
 template <typename T>
 class SField final : public Field {
  public:
+  /// The value type.
   using value_type = T;
 
   /// Declares the field inside `owner` (call from the owner's member initialisers).

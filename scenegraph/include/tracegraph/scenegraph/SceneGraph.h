@@ -29,6 +29,7 @@ struct HitInfo {
   std::uint32_t triangle = kInvalidId;     ///< triangle index within that mesh
   const MaterialNode* material = nullptr;  ///< current material at the shape, null: default
   const TextureNode* texture = nullptr;    ///< current texture at the shape, or null
+  /// The class of the instance hit.
   DynamicsClass dynamics = DynamicsClass::Static;
   /// True when the hit was mapped.
   bool valid() const { return shape != nullptr; }
@@ -37,27 +38,37 @@ struct HitInfo {
 /// A run [primBegin, primEnd) of an instance's triangles that come from one shape
 /// occurrence, with the material and texture in effect there.
 struct MeshSegment {
+  /// First triangle of the run.
   std::uint32_t primBegin = 0;
+  /// One past the last triangle of the run.
   std::uint32_t primEnd = 0;
+  /// The mesh node the triangles come from.
   const ShapeNode* shape = nullptr;
   const MaterialNode* material = nullptr;  ///< null: default material
+  /// Texture in effect there, or null.
   const TextureNode* texture = nullptr;
 };
 
 /// A light in world space (position and direction mapped by its current matrix).
 struct WorldLight {
+  /// The light node.
   const LightNode* node = nullptr;
+  /// Its parameters, position and direction in world space.
   LightData data;
 };
 
 /// The camera in world space: an orthonormal frame plus the projection parameters.
 struct WorldCamera {
+  /// The camera node.
   const CameraNode* node = nullptr;
+  /// Eye position.
   Vec3f position;
   Vec3f direction{0.0f, 0.0f, -1.0f};  ///< unit view direction
   Vec3f up{0.0f, 1.0f, 0.0f};          ///< unit, perpendicular to direction
   float fov = 0.785398f;               ///< vertical, radians
+  /// Near distance along the view ray.
   float hither = 0.01f;
+  /// Width / height the camera node asks for.
   float aspect = 1.0f;
 };
 
@@ -95,6 +106,7 @@ class SceneGraph : private NodeObserver {
 
   /// The clock animators read.
   Clock& clock();
+  /// The clock, read-only.
   const Clock& clock() const;
   /// Sets the clock to `time` and evaluates the animators that feed the graph (found through
   /// connected fields, plus those added with addAnimator) in dependency order, copying their
@@ -115,6 +127,7 @@ class SceneGraph : private NodeObserver {
 
   /// The backend scene (committed by sync()).
   Scene& backendScene();
+  /// The backend scene, read-only.
   const Scene& backendScene() const;
 
   /// Maps a backend hit (instanceId, primId) to the mesh node, its triangle and the material

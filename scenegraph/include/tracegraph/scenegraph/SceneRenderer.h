@@ -34,11 +34,16 @@ struct SceneLook {
 /// exponent 128 * s); larger values are Phong exponents as AFF/NFF files write them.
 class SceneRenderer {
  public:
+  /// Renders `graph` (which must outlive the renderer) with `settings`.
   explicit SceneRenderer(SceneGraph& graph, const RenderSettings& settings = {});
 
+  /// Replaces the render settings (shading mode, depth, ...).
   void setSettings(const RenderSettings& settings) { renderer_.setSettings(settings); }
+  /// The render settings.
   const RenderSettings& settings() const { return renderer_.settings(); }
+  /// Sets background and ambient light.
   void setLook(const SceneLook& look) { look_ = look; }
+  /// Background and ambient light.
   const SceneLook& look() const { return look_; }
   /// Folders searched, in order, for texture files not found as named.
   void setTextureSearchPath(std::vector<std::filesystem::path> folders);
@@ -52,6 +57,7 @@ class SceneRenderer {
   /// `stats->renderMs` and `stats->rays` when given.
   RenderStats render(const Camera& camera, Frame& frame, FrameStats* stats = nullptr);
 
+  /// The renderer-side scene as of the last update().
   const RenderScene& renderScene() const { return scene_; }
   /// Texture files that could not be loaded (each reported once), with the reason.
   const std::vector<std::string>& warnings() const { return warnings_; }

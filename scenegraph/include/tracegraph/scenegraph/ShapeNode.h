@@ -15,6 +15,7 @@ namespace tg {
 
 /// Views of a shape's arrays, valid until the shape is next edited.
 struct ShapeGeometry {
+  /// Positions in the local frame.
   std::span<const Vec3f> points;
   std::span<const std::int32_t> indices;  ///< three per triangle
   std::span<const Vec3f> normals;         ///< empty or one per point

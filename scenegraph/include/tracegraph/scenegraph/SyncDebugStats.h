@@ -15,9 +15,13 @@ struct SyncDebugStats {
   std::size_t framesUpdated = 0;       ///< instance matrices recomputed
   std::size_t deformingUpdated = 0;    ///< deforming objects given new points
   std::size_t chunksRebuilt = 0;       ///< static world-space chunks rebuilt
+  /// Backend objects created.
   std::size_t objectsCreated = 0;
+  /// Backend objects destroyed.
   std::size_t objectsDestroyed = 0;
+  /// Backend instances created.
   std::size_t instancesCreated = 0;
+  /// Backend instances destroyed.
   std::size_t instancesDestroyed = 0;
   std::size_t promoted = 0;       ///< static -> rigid/deforming this frame
   std::size_t demoted = 0;        ///< rigid/deforming -> static this frame

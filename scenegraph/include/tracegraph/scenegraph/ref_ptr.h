@@ -47,7 +47,9 @@ class ref_ptr {
 
   /// The object, or null.
   T* get() const noexcept { return p_; }
+  /// The object (must not be empty).
   T& operator*() const noexcept { return *p_; }
+  /// Member access (must not be empty).
   T* operator->() const noexcept { return p_; }
   /// True when not empty.
   explicit operator bool() const noexcept { return p_ != nullptr; }
@@ -62,8 +64,11 @@ class ref_ptr {
     return ref_ptr<U>(dynamic_cast<U*>(p_));
   }
 
+  /// Same object (or both empty).
   friend bool operator==(const ref_ptr& a, const ref_ptr& b) noexcept { return a.p_ == b.p_; }
+  /// True when empty.
   friend bool operator==(const ref_ptr& a, std::nullptr_t) noexcept { return a.p_ == nullptr; }
+  /// True when holding b.
   friend bool operator==(const ref_ptr& a, const T* b) noexcept { return a.p_ == b; }
 
  private:
@@ -72,6 +77,9 @@ class ref_ptr {
 
 }  // namespace tg
 
+// Doxygen cannot place a std:: specialisation declared outside namespace std ("internal
+// inconsistency"), so it is left out of the reference.
+/// @cond
 /// Hash by address so ref_ptr can key unordered containers.
 template <typename T>
 struct std::hash<tg::ref_ptr<T>> {
@@ -79,3 +87,4 @@ struct std::hash<tg::ref_ptr<T>> {
     return std::hash<T*>()(p.get());
   }
 };
+/// @endcond

@@ -50,7 +50,9 @@ struct RenderScene {
 
   /// A material for the triangles from primBegin up to the next range's primBegin.
   struct MaterialRange {
+    /// First triangle of the range.
     std::uint32_t primBegin = 0;
+    /// Index into materials.
     std::uint32_t material = kInvalidId;
   };
   /// By InstanceId: empty, or ranges sorted by primBegin (the first starting at 0).

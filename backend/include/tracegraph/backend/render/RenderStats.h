@@ -30,7 +30,9 @@ struct RayCounts {
 
 /// What one render() did.
 struct RenderStats {
+  ///@{
   std::uint32_t width = 0, height = 0;  ///< image size in pixels
+  ///@}
   int threads = 0;                      ///< maximum concurrency of the arena the frame rendered in
   double traceShadeMs = 0.0;            ///< wall time of tracing and shading all tiles
   double mraysPerSecond = 0.0;          ///< traced.total() / traceShadeMs, in millions per second
@@ -50,6 +52,7 @@ struct RenderStats {
   std::uint64_t totalInternalReflections = 0;
   /// Accelerator work, summed over every ray.
   std::uint64_t triangleTests = 0;
+  /// Accelerator nodes visited, summed over every ray.
   std::uint64_t nodeVisits = 0;
 };
 

@@ -30,6 +30,7 @@ std::optional<RenderMode> parseRenderMode(std::string_view name);
 
 /// Renderer options.
 struct RenderSettings {
+  /// What each pixel shows.
   RenderMode mode = RenderMode::Whitted;
   /// Reflection/refraction bounces allowed after the primary hit (Whitted mode).
   int maxDepth = 5;
@@ -38,6 +39,7 @@ struct RenderSettings {
   float minWeight = 0.01f;
   /// Tile edge in pixels; tiles are the unit of parallel work.
   std::uint32_t tileSize = 16;
+  /// How textures are sampled.
   TextureFilter textureFilter = TextureFilter::Bilinear;
   /// Fill the AOVs (depth, normal, instance and primitive ids); off saves memory and time.
   bool aovs = true;
