@@ -38,23 +38,28 @@ struct X3dOptions {
 /// the children; Shape becomes a Separator holding a Material, an optional Texture and one
 /// Mesh per colour; Switch becomes tg::nodes::Switch. IndexedFaceSet (concave polygons by ear
 /// clipping, ccw, creaseAngle, per-vertex/per-face normals and colours, TextureTransform
-/// applied to the coordinates), IndexedTriangleSet, TriangleSet, Box, Sphere, Cone, Cylinder
-/// and Extrusion become Meshes. Viewpoint, PointLight, DirectionalLight and SpotLight become
-/// their nodes (lights are global, unlike X3D's scoped DirectionalLight). Background sets
-/// LoadedScene::background, WorldInfo the title. A node written once with DEF and again with
-/// USE is the same node object under every parent (one backend object, several instances).
+/// applied to the coordinates), IndexedTriangleSet, TriangleSet, the fan and strip sets, Box,
+/// Sphere, Cone, Cylinder and Extrusion become Meshes. Mesh has no colour array: colours
+/// replace the diffuse colour of the Shape's material per triangle (per-vertex colours are
+/// averaged over each triangle) and triangles of equal colour share a mesh. Viewpoint,
+/// PointLight, DirectionalLight and SpotLight become their nodes (lights are global, unlike
+/// X3D's scoped DirectionalLight). Background sets LoadedScene::background, WorldInfo the
+/// title. A node written once with DEF and again with USE is the same node object under every
+/// parent (one backend object, several instances). A Shape without Material gets the default
+/// Material (X3D's unlit white is not modelled).
 ///
 /// Animation: TimeSensor (cycleInterval, loop, startTime, stopTime, enabled on the scene
 /// clock, whose time 0 is the load), Position-, Orientation-, Scalar-, Coordinate- and
 /// NormalInterpolator, and ROUTEs between them and node fields (`set_x`/`x_changed` names
-/// accepted). A ROUTE into a Coordinate or Normal makes the meshes built from it deforming.
-/// Inline loads the first url that exists, relative to the including file; a file inlined
-/// twice is loaded once and shared.
+/// accepted; Material transparency drives transmittance, Viewpoint fieldOfView the camera's
+/// fov). A ROUTE into a Coordinate or Normal makes the meshes built from it deforming.
+/// Inline loads the first url that exists, relative to the including file, with its own DEF
+/// names; a file inlined twice is loaded once and shared.
 ///
 /// Bad input, rejected with tg::Error naming the file and line: malformed XML, a file that is
 /// not X3D (no X3D or Scene element), attribute values of the wrong type or count (`0 1` for
-/// an SFVec3f, `abc` for a number), NaN/Inf numbers, a node that USEs itself or an ancestor,
-/// Inline cycles, nesting beyond the limits, more than maxTriangles triangles.
+/// an SFVec3f, `abc` for a number), NaN/Inf numbers or numbers beyond 1e18, a node that USEs itself
+/// or an ancestor, Inline cycles, nesting beyond the limits, more than maxTriangles triangles.
 /// Dropped with a warning naming the file and line, the rest still loads: unknown or
 /// unsupported nodes (with their subtree), USE of an unknown name or of a node of another
 /// kind, faces with out-of-range or too few coordinate indices, normal/texture/colour
