@@ -1,17 +1,24 @@
 #include "BenchSceneLoader.h"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <filesystem>
+#include <map>
 #include <string_view>
 #include <system_error>
 
 #include "SceneGenerators.h"
 #include "tracegraph/backend/Error.h"
+#include "tracegraph/loaders/AffLoader.h"
+#include "tracegraph/scenegraph/SceneGraph.h"
 
 namespace tg::bench {
 namespace {
 
 constexpr std::string_view kBuiltinPrefix = "builtin:";
-constexpr std::string_view kBuiltinHelp = "builtin:sphereflake[:depth] or builtin:random:N";
+constexpr std::string_view kBuiltinHelp =
+    "builtin:sphereflake[:depth], builtin:random:N or an .aff/.nff file";
 
 /// Parses all of `text` as an unsigned integer in [lo, hi].
 bool parseCount(std::string_view text, std::size_t lo, std::size_t hi, std::size_t& value) {
@@ -38,15 +45,52 @@ BenchScene loadBuiltin(const std::string& path) {
   throw Error("unknown built-in scene '" + path + "'; known: " + std::string(kBuiltinHelp));
 }
 
+/// Loads an AFF/NFF file through the scene graph, as an application would: the graph at
+/// frame 0, synced, then flattened.
+BenchScene loadAffFile(const std::string& path) {
+  const AffScene aff = loadAff(path);
+  SceneGraph graph;
+  graph.setRoot(aff.root);
+  graph.advanceTo(aff.frameTime(0));
+  graph.sync();
+  return flattenSyncedScene(graph);
+}
+
 }  // namespace
+
+bool isAffPath(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".aff" || ext == ".nff";
+}
+
+BenchScene flattenSyncedScene(const SceneGraph& graph) {
+  const Scene& synced = graph.backendScene();
+  BenchScene bench;
+  // Objects shared by several instances (DEF/USE, an `x` track on several blocks) stay
+  // shared, so the implementations under test build each once as the scene graph does.
+  std::map<ObjectId, std::uint32_t> meshOf;
+  for (const InstanceId id : graph.instanceIds()) {
+    const ObjectId object = synced.instanceObject(id);
+    auto it = meshOf.find(object);
+    if (it == meshOf.end()) {
+      it = meshOf.emplace(object, static_cast<std::uint32_t>(bench.meshes.size())).first;
+      bench.meshes.push_back(synced.objectMesh(object));
+    }
+    bench.instances.push_back({it->second, synced.instanceTransform(id)});
+  }
+  return bench;
+}
 
 BenchScene loadBenchScene(const std::string& path) {
   BenchScene scene;
   if (path.starts_with(kBuiltinPrefix)) {
     scene = loadBuiltin(path);
+  } else if (isAffPath(path)) {
+    scene = loadAffFile(path);
   } else {
-    // File formats are dispatched here (by extension) once their loaders exist.
-    throw Error("cannot load '" + path + "': scene loading arrives with the loaders; use " +
+    throw Error("cannot load '" + path + "': no loader for this file type; use " +
                 std::string(kBuiltinHelp));
   }
   scene.name = path;

@@ -6,15 +6,30 @@
 
 #include "BenchScene.h"
 
+namespace tg {
+class SceneGraph;
+}
+
 namespace tg::bench {
 
 /// Loads the scene named by `path`:
 ///  - "builtin:sphereflake" or "builtin:sphereflake:D": Haines' sphereflake of depth D
 ///    (default 3: 820 instances of one sphere) on a ground square;
 ///  - "builtin:random:N": N random triangles at unit density in one mesh.
-/// Any other path is a scene file. The file loaders (BART first) plug in here, converting their
-/// scene graph to the flat mesh + instance form; until then a file path is rejected.
-/// Throws tg::Error with a message naming the path for anything it cannot load.
+///  - a file ending in .aff or .nff (BART / NFF): loaded with tg::loadAff into a SceneGraph,
+///    advanced to the first frame of its animation, synced, and flattened with
+///    flattenSyncedScene (static chunks in world space, rigid and deforming parts as the
+///    objects and instance matrices of that frame).
+/// Other files are rejected. Throws tg::Error with a message naming the path (and, for scene
+/// files, the line) for anything it cannot load.
 BenchScene loadBenchScene(const std::string& path);
+
+/// True when `path` ends in .aff or .nff (any case).
+bool isAffPath(const std::string& path);
+
+/// The synced backend scene of `graph` as meshes and instances: one mesh per backend object
+/// used by an instance (in first-use order), one BenchInstance per backend instance with its
+/// matrix.
+BenchScene flattenSyncedScene(const SceneGraph& graph);
 
 }  // namespace tg::bench

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "BenchReport.h"
 #include "RayGenerators.h"
@@ -17,9 +19,11 @@ struct CommonOptions {
   int reps = 0;     ///< timed repetitions; 0: the suite's default
 };
 
-/// Default repetitions of the build suites (toplevel, rebuild, build) and of the trace suite.
+/// Default repetitions of the build suites (toplevel, rebuild, build), of the trace suite and
+/// of the load suite.
 inline constexpr int kDefaultBuildReps = 11;
 inline constexpr int kDefaultTraceReps = 5;
+inline constexpr int kDefaultLoadReps = 5;
 
 /// `toplevel`: rebuild of the top-level structure over N moving instances.
 struct ToplevelOptions {
@@ -43,6 +47,33 @@ struct TraceOptions {
   ImageSize size;
 };
 
+/// Default repetitions of the sync suite: an edit's sync and a frame step are short, so more
+/// samples fit in the time of one build sample.
+inline constexpr int kDefaultSyncReps = 31;
+/// Default passes of the frame suite over its frames (every frame is one sample).
+inline constexpr int kDefaultFramePasses = 1;
+
+/// `sync`: one field edit in synthetic graphs of each size, then frame steps of a scene
+/// against a flat Embree LOW rebuild per frame.
+struct SyncSuiteOptions {
+  std::vector<std::size_t> nodes = {1000, 10000, 100000};  ///< graph sizes, in nodes
+  std::optional<std::string> scene;  ///< scene file for loadSceneSource; none: the demo
+};
+
+/// `frame`: whole frames (sync + render) per second and rays per second by kind.
+struct FrameSuiteOptions {
+  std::optional<std::string> scene;  ///< scene file for loadSceneSource; none: the demo
+  ImageSize size{640, 480};
+  std::vector<std::string> modes = {"opengl", "whitted"};  ///< render modes, one row each
+  int depth = 3;   ///< Whitted bounces after the primary hit
+  int frames = 5;  ///< frames spread evenly over the animation, first and last included
+};
+
+/// `load`: parsing an .aff/.nff file, converting it to a node graph, and the first sync.
+struct LoadOptions {
+  std::string scene;
+};
+
 /// Each suite measures Tracegraph first (the first row of every case is ours), then the Embree
 /// peer when it was compiled in (otherwise a note goes to stderr). The caller fills in
 /// BenchReport::machine. Errors in the input (a scene that cannot be loaded) throw tg::Error.
@@ -50,5 +81,10 @@ BenchReport runToplevelSuite(const CommonOptions& common, const ToplevelOptions&
 BenchReport runRebuildSuite(const CommonOptions& common, const RebuildOptions& options);
 BenchReport runBuildSuite(const CommonOptions& common, const BuildOptions& options);
 BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& options);
+/// Rows tracegraph-aff-parse (parseAffFile), tracegraph-aff-load (loadAff: parse and node
+/// graph) and tracegraph-aff-sync (the first SceneGraph::sync at frame 0); no peer rows.
+BenchReport runLoadSuite(const CommonOptions& common, const LoadOptions& options);
+BenchReport runSyncSuite(const CommonOptions& common, const SyncSuiteOptions& options);
+BenchReport runFrameSuite(const CommonOptions& common, const FrameSuiteOptions& options);
 
 }  // namespace tg::bench

@@ -2,9 +2,10 @@
 //
 //   tg-bench <suite> [options] [--json] [--threads N] [--reps R]
 //
-// Suites: toplevel, rebuild, build, trace (see Suites.h). stdout holds only the report (a
-// table, or with --json exactly one JSON object); progress and notes go to stderr. Exit codes:
-// 0 success, 1 bad input (e.g. a scene that cannot be loaded), 2 bad command line.
+// Suites: toplevel, rebuild, build, trace, sync, frame, load (see Suites.h). stdout holds only
+// the report (a table, or with --json exactly one JSON object); progress and notes go to
+// stderr. Exit codes: 0 success, 1 bad input (e.g. a scene that cannot be loaded), 2 bad
+// command line.
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
@@ -28,7 +29,7 @@ void addCommonOptions(CLI::App& sub, CommonOptions& common) {
       ->check(CLI::Range(1, 4096));
   sub.add_option("--reps", common.reps,
                  "Timed repetitions, reported as median/min/max (default: 11 for builds, 5 for "
-                 "trace)")
+                 "trace, 31 for sync; frame: passes over its frames, default 1)")
       ->check(CLI::Range(1, 100000));
 }
 
@@ -44,6 +45,9 @@ int main(int argc, char** argv) {
   RebuildOptions rebuild;
   BuildOptions build;
   TraceOptions trace;
+  LoadOptions load;
+  SyncSuiteOptions syncOptions;
+  FrameSuiteOptions frameOptions;
 
   CLI::App* toplevelCmd =
       app.add_subcommand("toplevel", "Top-level rebuild over N moving instances of a box");
@@ -60,7 +64,7 @@ int main(int argc, char** argv) {
   addCommonOptions(*rebuildCmd, common);
 
   const std::string sceneHelp =
-      "Scene: builtin:sphereflake[:depth], builtin:random:N (files: once the loaders exist)";
+      "Scene: builtin:sphereflake[:depth], builtin:random:N, or an .aff/.nff file (frame 0)";
   CLI::App* buildCmd = app.add_subcommand("build", "Build every object and the top level");
   buildCmd->add_option("--scene", build.scene, sceneHelp)->required();
   addCommonOptions(*buildCmd, common);
@@ -82,6 +86,50 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   addCommonOptions(*traceCmd, common);
 
+  CLI::App* loadCmd =
+      app.add_subcommand("load", "Parse, node-graph conversion and first sync of a scene file");
+  loadCmd->add_option("--scene", load.scene, "Scene file (.aff or .nff)")->required();
+  addCommonOptions(*loadCmd, common);
+
+  const std::string graphSceneHelp =
+      "Scene file (loaded as tg-render loads it); default: the built-in demo";
+  CLI::App* syncCmd = app.add_subcommand(
+      "sync",
+      "Sync after one field edit in graphs of N nodes, and whole frame steps of a scene "
+      "against a flat Embree LOW rebuild");
+  syncCmd->add_option("--nodes", syncOptions.nodes, "Graph sizes in nodes, comma-separated")
+      ->delimiter(',')
+      ->check(CLI::Range(std::size_t{3}, std::size_t{10'000'000}))
+      ->capture_default_str();
+  syncCmd->add_option("--scene", syncOptions.scene, graphSceneHelp);
+  addCommonOptions(*syncCmd, common);
+
+  CLI::App* frameCmd =
+      app.add_subcommand("frame", "Whole frames (sync + render): frames/s and rays/s by kind");
+  frameCmd->add_option("--scene", frameOptions.scene, graphSceneHelp);
+  std::string frameSizeText = "640x480";
+  frameCmd->add_option("--size", frameSizeText, "Image size WxH")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            ImageSize size;
+            return parseImageSize(text, size) ? std::string()
+                                              : "expected WxH with 1 <= W, H <= 16384";
+          },
+          "WxH"))
+      ->capture_default_str();
+  std::string frameMode;
+  frameCmd->add_option("--mode", frameMode, "Render mode (default: both, one row each)")
+      ->check(CLI::IsMember({"opengl", "whitted"}));
+  frameCmd->add_option("--depth", frameOptions.depth, "Whitted bounces after the primary hit")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  frameCmd
+      ->add_option("--frames", frameOptions.frames,
+                   "Frames spread evenly over the animation (--reps: passes over them)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  addCommonOptions(*frameCmd, common);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -89,6 +137,8 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   parseImageSize(sizeText, trace.size);
+  parseImageSize(frameSizeText, frameOptions.size);
+  if (!frameMode.empty()) frameOptions.modes = {frameMode};
 
   try {
     // Caps every TBB parallel region in the process, Tracegraph's and Embree's alike.
@@ -101,8 +151,14 @@ int main(int argc, char** argv) {
       report = runRebuildSuite(common, rebuild);
     } else if (*buildCmd) {
       report = runBuildSuite(common, build);
-    } else {
+    } else if (*syncCmd) {
+      report = runSyncSuite(common, syncOptions);
+    } else if (*frameCmd) {
+      report = runFrameSuite(common, frameOptions);
+    } else if (*traceCmd) {
       report = runTraceSuite(common, trace);
+    } else {
+      report = runLoadSuite(common, load);
     }
     report.machine = machineDescription();
     if (common.json) {
