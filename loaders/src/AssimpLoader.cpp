@@ -338,3 +338,16 @@ LoadedScene loadAssimp(const std::filesystem::path& file, const AssimpOptions& o
 }
 
 }  // namespace tg
+
+namespace tg {
+
+bool assimpCanRead(const std::string& extension) {
+  std::string lower = extension;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  // The AFF reader owns .nff (Assimp's NFF reader does not know BART's extensions).
+  if (lower == ".aff" || lower == ".nff" || lower == ".x3d") return false;
+  return Assimp::Importer().IsExtensionSupported(lower);
+}
+
+}  // namespace tg

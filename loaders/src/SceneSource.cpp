@@ -6,7 +6,9 @@
 
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/loaders/AffLoader.h"
+#include "tracegraph/loaders/AssimpLoader.h"
 #include "tracegraph/loaders/DemoScene.h"
+#include "tracegraph/loaders/X3dLoader.h"
 
 namespace tg {
 namespace {
@@ -25,6 +27,18 @@ SceneTiming timingFromDuration(double duration, double fps) {
   t.frames = std::max(1, static_cast<int>(std::floor(duration * fps + 1e-9)) + 1);
   t.end = (t.frames - 1) / fps;
   return t;
+}
+
+/// The parts of an X3D or Assimp load that every tool needs.
+void takeLoadedScene(LoadedScene&& loaded, double fps, SceneSource& s) {
+  s.root = loaded.root;
+  if (loaded.hasBackground) s.look.background = loaded.background;
+  // Formats without their own frame range play their animations from time 0 at `fps`; a
+  // static file is one frame.
+  s.timing = loaded.animationDuration > 0.0 ? timingFromDuration(loaded.animationDuration, fps)
+                                            : SceneTiming{};
+  s.textureFolders = std::move(loaded.textureFolders);
+  s.warnings = std::move(loaded.warnings);
 }
 
 }  // namespace
@@ -47,7 +61,24 @@ SceneSource loadSceneSource(const std::optional<std::string>& path, double fps) 
   s.name = file.filename().string();
   const std::string ext = lowerExtension(file);
   if (ext == ".aff" || ext == ".nff") {
-    AffScene aff = loadAff(file);
+    AffScene aff;
+    try {
+      aff = loadAff(file);
+    } catch (const Error& affError) {
+      if (ext != ".nff") throw;
+      // Sense8 NFF and Assimp's shorthand shapes (`dod`, `hex`, textured `f`) share the
+      // extension with Haines' NFF; Assimp reads those. When it cannot either, the BART
+      // reader's message (with its line) is the more useful one.
+      try {
+        takeLoadedScene(loadAssimp(file), fps, s);
+      } catch (const Error&) {
+        throw affError;
+      }
+      s.warnings.insert(s.warnings.begin(),
+                        std::string(affError.what()) +
+                            " (not Haines/BART NFF; read as Sense8 NFF through Assimp)");
+      return s;
+    }
     s.root = aff.root;
     s.look = aff.look();
     // BART's `a start end N` is the scene's own frame range; files without it animate from 0.
@@ -61,7 +92,18 @@ SceneSource loadSceneSource(const std::optional<std::string>& path, double fps) 
     s.warnings = std::move(aff.warnings);
     return s;
   }
-  throw Error(*path + ": no loader for '" + ext + "' files (known: .aff, .nff)");
+  if (ext == ".x3d") {
+    takeLoadedScene(loadX3d(file), fps, s);
+    return s;
+  }
+  // Assimp itself is asked, so every format of the installed version is accepted.
+  if (!ext.empty() && assimpCanRead(ext)) {
+    takeLoadedScene(loadAssimp(file), fps, s);
+    return s;
+  }
+  throw Error(*path + ": no loader for '" + ext +
+              "' files (known: .aff, .nff, .x3d, and the formats of Assimp: .gltf, .glb, "
+              ".obj, .ply, ...)");
 }
 
 }  // namespace tg

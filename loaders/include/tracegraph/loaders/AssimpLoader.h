@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include "tracegraph/loaders/LoadedScene.h"
 
@@ -44,5 +45,9 @@ struct AssimpOptions {
 /// range. Dropped with a warning: missing or embedded texture images, orthographic cameras,
 /// point and line primitives, bone weights naming unknown nodes.
 LoadedScene loadAssimp(const std::filesystem::path& file, const AssimpOptions& options = {});
+
+/// True when the installed Assimp reads files with this extension (".gltf", ".obj", ...; the
+/// case does not matter).
+bool assimpCanRead(const std::string& extension);
 
 }  // namespace tg
