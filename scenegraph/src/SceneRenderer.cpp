@@ -144,7 +144,18 @@ Camera SceneRenderer::camera(std::uint32_t width, std::uint32_t height) const {
 
 RenderStats SceneRenderer::render(const Camera& camera, Frame& frame, FrameStats* stats) {
   RenderingScope scope(graph_);
-  const RenderStats r = renderer_.render(scene_, camera, frame);
+  // The headlight follows the camera of this render, so it is added here, not in update().
+  const bool headlight = look_.headlight && scene_.pointLights.empty() &&
+                         scene_.directionalLights.empty() && scene_.spotLights.empty();
+  if (headlight) scene_.directionalLights.push_back({camera.params().viewDirection, {1, 1, 1}});
+  RenderStats r;
+  try {
+    r = renderer_.render(scene_, camera, frame);
+  } catch (...) {
+    if (headlight) scene_.directionalLights.pop_back();
+    throw;
+  }
+  if (headlight) scene_.directionalLights.pop_back();
   if (stats) {
     stats->renderMs = r.traceShadeMs;
     stats->rays = r.traced;

@@ -21,6 +21,9 @@ namespace tg {
 struct SceneLook {
   Vec3f background{0.0f, 0.0f, 0.0f};  ///< colour of rays that hit nothing
   Vec3f ambient{0.2f, 0.2f, 0.2f};     ///< ambient light (AFF `am`)
+  /// A scene without any light that is on is lit by a white directional light along the
+  /// camera's view (X3D's NavigationInfo headlight, on by default; glTF viewers do the same).
+  bool headlight = true;
 };
 
 /// Keeps a RenderScene in step with a synced SceneGraph and renders frames of it.
