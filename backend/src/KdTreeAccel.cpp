@@ -2,18 +2,28 @@
 
 #include <chrono>
 
+#include "BvhAccel.h"
+
 namespace tg {
 
 std::string_view accelKindName(AccelKind kind) {
   switch (kind) {
     case AccelKind::SahKdTree: return "sah-kd";
     case AccelKind::FastKdTree: return "fast-kd";
+    case AccelKind::Bvh: return "bvh";
+    case AccelKind::BvhFast: return "bvh-fast";
   }
   return "unknown";
 }
 
 std::unique_ptr<ObjectAccel> createObjectAccel(AccelKind kind) {
-  return std::make_unique<KdTreeAccel>(kind);
+  switch (kind) {
+    case AccelKind::SahKdTree:
+    case AccelKind::FastKdTree: return std::make_unique<KdTreeAccel>(kind);
+    case AccelKind::Bvh:
+    case AccelKind::BvhFast: return std::make_unique<detail::BvhAccel>(kind);
+  }
+  return nullptr;
 }
 
 void KdTreeAccel::build(const TriangleMesh& mesh) {

@@ -48,6 +48,7 @@ struct Scene::Impl {
     std::size_t instanceRefs = 0;
     bool alive = true;
     bool dirty = true;
+    bool built = false;  ///< accel holds a full build of some earlier mesh (refit candidate)
   };
   struct Instance {
     ObjectId object = kInvalidId;
@@ -211,18 +212,33 @@ CommitStats Scene::commit() {
     }
     const AccelKind kind =
         obj.usage == ObjectUsage::Deforming ? s.options.deformingAccel : s.options.staticAccel;
-    if (!obj.accel || obj.accel->kind() != kind) obj.accel = createObjectAccel(kind);
+    if (!obj.accel || obj.accel->kind() != kind) {
+      obj.accel = createObjectAccel(kind);
+      obj.built = false;
+    }
     dirty.push_back(id);
     stats.trianglesRebuilt += obj.committed.triangleCount();
   }
   auto start = std::chrono::steady_clock::now();
+  std::vector<char> refitted(dirty.size(), 0);
   tbb::parallel_for(std::size_t(0), dirty.size(), [&](std::size_t k) {
     Impl::Object& obj = s.objects[dirty[k]];
-    obj.accel->build(obj.committed);
     obj.dirty = false;
+    // A deforming object keeps its tree while only its points moved and the refitted boxes are
+    // still nearly as good as a fresh build's; refit() itself refuses a changed topology.
+    if (obj.usage == ObjectUsage::Deforming && obj.built && obj.accel->refit(obj.committed)) {
+      const BuildStats& st = obj.accel->stats();
+      if (st.sahCost <= s.options.maxRefitCostRatio * st.buildSahCost) {
+        refitted[k] = 1;
+        return;
+      }
+    }
+    obj.accel->build(obj.committed);
+    obj.built = true;
   });
   stats.rebuildMs = millisecondsSince(start);
-  stats.objectsRebuilt = dirty.size();
+  for (const char r : refitted) stats.objectsRefitted += r != 0 ? 1 : 0;
+  stats.objectsRebuilt = dirty.size() - stats.objectsRefitted;
 
   // Any rebuilt object may have new bounds, so its instances' world bounds change too.
   if (s.instancesDirty || !dirty.empty()) {

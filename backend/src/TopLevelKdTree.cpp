@@ -10,12 +10,14 @@
 #endif
 
 #include "KdTraversal.h"
+#include "TopLevelBvh.h"
 
 namespace tg {
 
 std::string_view topLevelKindName(TopLevelKind kind) {
   switch (kind) {
     case TopLevelKind::KdTree: return "kd";
+    case TopLevelKind::Bvh: return "bvh";
   }
   return "unknown";
 }
@@ -23,6 +25,7 @@ std::string_view topLevelKindName(TopLevelKind kind) {
 std::unique_ptr<TopLevelAccel> createTopLevelAccel(TopLevelKind kind) {
   switch (kind) {
     case TopLevelKind::KdTree: return std::make_unique<TopLevelKdTree>();
+    case TopLevelKind::Bvh: return std::make_unique<detail::TopLevelBvh>();
   }
   return nullptr;
 }

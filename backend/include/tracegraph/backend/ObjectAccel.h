@@ -18,9 +18,11 @@ namespace tg {
 enum class AccelKind : std::uint8_t {
   SahKdTree,   ///< high-quality SAH kd-tree, O(n log n) build (static and rigid objects)
   FastKdTree,  ///< the paper's fast kd-tree for deforming objects (spatial median splits)
+  Bvh,         ///< 4-wide BVH from a parallel binned-SAH builder (static and rigid objects)
+  BvhFast,     ///< 4-wide BVH from a quick binned builder, refittable (deforming objects)
 };
 
-/// Name used in statistics and benchmark rows ("sah-kd", "fast-kd").
+/// Name used in statistics and benchmark rows ("sah-kd", "fast-kd", "bvh", "bvh-fast").
 std::string_view accelKindName(AccelKind kind);
 
 /// What a build produced, for statistics and benchmarks.
@@ -28,12 +30,25 @@ struct BuildStats {
   std::size_t triangles = 0;    ///< triangles in the mesh
   std::size_t degenerate = 0;   ///< zero-area triangles left out of the tree (never hit)
   std::size_t nodes = 0;        ///< inner nodes + leaves
+  /// Leaves, empty ones included.
   std::size_t leaves = 0;
+  /// Leaves without references.
   std::size_t emptyLeaves = 0;
   std::size_t primReferences = 0;  ///< triangle references in leaves (>= triangles with splits)
+  /// Depth of the deepest leaf (root: 0).
   std::size_t maxDepth = 0;
   std::size_t bytes = 0;        ///< memory held by the accelerator (nodes, refs, triangle copy)
+  /// Wall time of the build (or of the refit, when `refitted`).
   double buildMs = 0.0;
+  /// True when the last update refitted the boxes of the existing tree instead of rebuilding.
+  bool refitted = false;
+  /// Surface-area-heuristic cost of the current tree, in units of one node visit per ray that
+  /// hits the root box (0 when the accelerator does not compute it). Refits keep the topology
+  /// of the tree, so this grows as the geometry drifts away from the state it was built for.
+  double sahCost = 0.0;
+  /// sahCost right after the last full build: sahCost / buildSahCost says how much refits have
+  /// degraded the tree, which is what a caller weighs to choose refit or rebuild.
+  double buildSahCost = 0.0;
 };
 
 /// Small direct-mapped cache of the triangles a ray has already tested in the current object.
@@ -42,9 +57,12 @@ struct BuildStats {
 /// mailbox lives on the tracing thread's stack, one per ray, so threads never share writes
 /// (the paper's per-ray-id mailboxes in shared memory would need atomic or per-thread copies).
 struct Mailbox {
+  /// Number of entries (a power of two: the slot is a hash's top bits).
   static constexpr std::uint32_t kSlots = 16;
+  /// Triangle ids tested, or kInvalidId.
   std::uint32_t slots[kSlots];
 
+  /// Forgets every entry (before each ray and object).
   void clear() {
     for (std::uint32_t& s : slots) s = kInvalidId;
   }
@@ -61,11 +79,15 @@ struct Mailbox {
 struct ObjectRay {
   WatertightRay wt;      ///< origin, direction, tnear and shear constants
   Vec3f inverseDirection;  ///< 1/direction per component (+-inf for +-0 components)
+  /// Largest t that counts; lowered to each closer hit.
   float tfar = kInfinity;
+  /// Instance the ray was mapped through, written into hits.
   std::uint32_t instanceId = kInvalidId;
+  /// Object being traversed, written into hits.
   std::uint32_t objectId = kInvalidId;
 
   ObjectRay() = default;
+  /// From a float object-space ray.
   ObjectRay(const Vec3f& origin, const Vec3f& direction, float tnear, float tfar_,
             std::uint32_t instance, std::uint32_t object)
       : wt(origin, direction, tnear),
@@ -99,10 +121,20 @@ class ObjectAccel {
   ObjectAccel(const ObjectAccel&) = delete;
   ObjectAccel& operator=(const ObjectAccel&) = delete;
 
+  /// Which builder this accelerator uses.
   virtual AccelKind kind() const = 0;
   /// (Re)builds over `mesh`, which must be valid (TriangleMesh::validate). The accelerator keeps
   /// its own copy of the triangles it needs, so the mesh may change afterwards.
   virtual void build(const TriangleMesh& mesh) = 0;
+  /// Updates the tree for moved vertices without rebuilding it: keeps the tree's topology and
+  /// recomputes its boxes from `mesh` (valid, see build). Returns false, changing nothing, when
+  /// the accelerator cannot refit (the default) or when `mesh` has other triangles than the
+  /// last build (triangle count or indices differ); the caller then calls build(). After a
+  /// refit, stats().refitted is true and stats().sahCost is the refitted tree's cost.
+  virtual bool refit(const TriangleMesh& mesh) {
+    (void)mesh;
+    return false;
+  }
   /// Bounds of the non-degenerate triangles (empty box when there are none).
   virtual Box3f bounds() const = 0;
   /// Closest hit: when a triangle is hit at t in [tnear, ray.tfar] and precedes `hit`
@@ -111,6 +143,7 @@ class ObjectAccel {
   virtual bool intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const = 0;
   /// Any hit in [tnear, tfar].
   virtual bool occluded(const ObjectRay& ray, TraversalContext& ctx) const = 0;
+  /// What the last build produced.
   virtual const BuildStats& stats() const = 0;
 };
 

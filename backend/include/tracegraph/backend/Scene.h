@@ -25,7 +25,7 @@ using InstanceId = std::uint32_t;
 enum class ObjectUsage : std::uint8_t {
   Static,     ///< never changes: high-quality (SAH) build
   Rigid,      ///< moved only through its instances' matrices: high-quality build, once
-  Deforming,  ///< points change between frames: fast builder, rebuilt whenever they change
+  Deforming,  ///< points change between frames: fast builder, rebuilt (or refitted) on change
 };
 
 /// Options fixed when a scene is created.
@@ -33,16 +33,24 @@ struct SceneOptions {
   /// Accelerator over the instances.
   TopLevelKind topLevel = TopLevelKind::KdTree;
   /// Accelerator kinds per usage; callers of later engines change these, not their code.
+  /// Used for static and rigid objects.
   AccelKind staticAccel = AccelKind::SahKdTree;
-  /// Accelerator of deforming objects.
+  /// Accelerator of deforming objects. When it supports refitting (AccelKind::BvhFast), commit()
+  /// refits instead of rebuilding while the triangles stay the same and the refitted tree's SAH
+  /// cost stays within maxRefitCostRatio of its cost at the last full build.
   AccelKind deformingAccel = AccelKind::FastKdTree;
+  /// Largest sahCost / buildSahCost (see BuildStats) a refitted tree may reach before commit()
+  /// rebuilds it instead.
+  double maxRefitCostRatio = 1.5;
 };
 
 /// What one commit() did, for per-frame statistics.
 struct CommitStats {
-  /// Objects whose accelerator was (re)built.
+  /// Objects whose accelerator was (re)built from scratch.
   std::size_t objectsRebuilt = 0;
-  /// Triangles in those objects.
+  /// Deforming objects whose accelerator was refitted instead (see SceneOptions::deformingAccel).
+  std::size_t objectsRefitted = 0;
+  /// Triangles in the objects rebuilt or refitted.
   std::size_t trianglesRebuilt = 0;
   /// Instances created, moved or destroyed.
   std::size_t instancesUpdated = 0;

@@ -15,13 +15,19 @@ namespace tg {
 /// What the top level needs of one instance: its object's accelerator, both matrices
 /// (stored in float, computed in double) and its conservative world bounds.
 struct InstanceRecord {
+  /// The object's accelerator (built).
   const ObjectAccel* accel = nullptr;
+  /// Object to world, rounded to float.
   Affine3f objectToWorld;
+  /// World to object, inverted in double and rounded to float.
   Affine3f worldToObject;
   /// The inverse in double: rays are mapped into object space with it (see intersectInstance).
   Affine3d worldToObjectD;
+  /// Conservative world bounds of the object's triangles.
   Box3f worldBounds;
+  /// Id written into hits.
   std::uint32_t instanceId = kInvalidId;
+  /// Id written into hits.
   std::uint32_t objectId = kInvalidId;
   bool identity = false;  ///< objectToWorld is exactly the identity: skip the ray transform
 };
@@ -29,15 +35,21 @@ struct InstanceRecord {
 /// Which top-level accelerator to build.
 enum class TopLevelKind : std::uint8_t {
   KdTree,  ///< the paper's Algorithm 1 kd-tree over instance bounds
+  Bvh,     ///< 4-wide binned-SAH BVH over instance bounds, rebuilt in parallel
 };
 
 /// Statistics of a top-level build.
 struct TopLevelStats {
+  /// Instances built over.
   std::size_t instances = 0;
+  /// Inner nodes + leaves.
   std::size_t nodes = 0;
+  /// Leaves, empty ones included.
   std::size_t leaves = 0;
+  /// Depth of the deepest leaf (root: 0).
   std::size_t maxDepth = 0;
   std::size_t references = 0;  ///< instance references in leaves
+  /// Wall time of the build.
   double buildMs = 0.0;
 };
 
@@ -49,6 +61,7 @@ class TopLevelAccel {
   TopLevelAccel(const TopLevelAccel&) = delete;
   TopLevelAccel& operator=(const TopLevelAccel&) = delete;
 
+  /// Which accelerator this is.
   virtual TopLevelKind kind() const = 0;
   /// Rebuilds over `instances`; the records must stay alive and unchanged until the next build.
   virtual void build(std::span<const InstanceRecord> instances) = 0;
@@ -56,10 +69,13 @@ class TopLevelAccel {
   virtual bool intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const = 0;
   /// Any hit of a world ray in [tnear, tfar].
   virtual bool occluded(const Ray& ray, TraversalContext& ctx) const = 0;
+  /// Statistics of the last build.
   virtual const TopLevelStats& stats() const = 0;
 };
 
+/// Name used in statistics and benchmark rows.
 std::string_view topLevelKindName(TopLevelKind kind);
+/// Creates an (unbuilt) top-level accelerator of the given kind.
 std::unique_ptr<TopLevelAccel> createTopLevelAccel(TopLevelKind kind);
 
 /// Maps a world ray into the instance's object space. The direction is not renormalised, so t

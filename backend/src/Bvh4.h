@@ -1,0 +1,248 @@
+// The 4-wide BVH shared by the object BVH and the top-level BVH: node layout, the 4-box slab
+// test (SSE on x86-64, where SSE2 is baseline, scalar elsewhere) and ordered front-to-back
+// traversal. Internal header: not installed.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <new>
+#include <utility>
+#include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#define TG_BVH4_SSE 1
+#else
+#define TG_BVH4_SSE 0
+#endif
+
+#include "tracegraph/backend/Box3.h"
+#include "tracegraph/backend/Ray.h"
+
+namespace tg::detail {
+
+/// Deepest BVH4 level a builder produces; bounds the traversal stack (3 pushes per level).
+inline constexpr int kBvh4MaxDepth = 64;
+
+/// A node with four child slots, boxes stored per axis and side so that one SSE load gives
+/// the same plane of all four children (two cache lines per node).
+///
+/// Slot i is an inner child when count[i] == 0 (child[i]: node index, always greater than this
+/// node's), a leaf when count[i] > 0 (child[i]: first primitive, count[i] primitives stored
+/// contiguously), unused when count[i] == 0 and child[i] == kInvalidId; an unused slot has an
+/// empty box (lower +inf, upper -inf) that no ray can hit, so traversal need not test for it.
+struct alignas(64) Bvh4Node {
+  /// bounds[2 * axis] lower, bounds[2 * axis + 1] upper coordinates of the four children.
+  float bounds[6][4];
+  /// Node index (inner) or first primitive (leaf) per slot.
+  std::uint32_t child[4];
+  /// Primitive count per slot; 0 for inner and unused slots.
+  std::uint32_t count[4];
+
+  /// A node whose four slots are unused.
+  static Bvh4Node makeEmpty() {
+    Bvh4Node n;
+    for (int s = 0; s < 4; ++s) {
+      for (int a = 0; a < 3; ++a) {
+        n.bounds[2 * a][s] = std::numeric_limits<float>::infinity();
+        n.bounds[2 * a + 1][s] = -std::numeric_limits<float>::infinity();
+      }
+      n.child[s] = kInvalidId;
+      n.count[s] = 0;
+    }
+    return n;
+  }
+  /// Sets the box of slot `s`.
+  void setBounds(int s, const Box3f& b) {
+    for (int a = 0; a < 3; ++a) {
+      bounds[2 * a][s] = b.lower[a];
+      bounds[2 * a + 1][s] = b.upper[a];
+    }
+  }
+  /// The box of slot `s`.
+  Box3f slotBounds(int s) const {
+    return {{bounds[0][s], bounds[2][s], bounds[4][s]}, {bounds[1][s], bounds[3][s], bounds[5][s]}};
+  }
+  /// Union of the four slot boxes.
+  Box3f unionBounds() const {
+    Box3f b;
+    for (int s = 0; s < 4; ++s)
+      if (child[s] != kInvalidId) b.extend(slotBounds(s));
+    return b;
+  }
+  /// True when slot `s` holds an inner child.
+  bool isInner(int s) const { return count[s] == 0 && child[s] != kInvalidId; }
+};
+
+/// An allocator whose value-less construct default-initialises: growing a vector of nodes that
+/// are about to be overwritten then costs no pass over memory (per-frame top-level rebuilds).
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() = default;
+  template <class U>
+  explicit DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+/// The node array of a BVH4, root first.
+using Bvh4NodeArray = std::vector<Bvh4Node, DefaultInitAllocator<Bvh4Node>>;
+
+/// Relative widening of box intervals: the slab distance (b - o) * (1/d) is rounded three
+/// times (difference, reciprocal, product); one more ulp of margin keeps rays that graze a box
+/// holding a triangle whose edge lies on the box face.
+inline constexpr float kBvhIntervalSlack = 4.0f * 0x1p-24f;
+
+/// Per-ray constants of the 4-box test.
+///
+/// A zero direction component (+0 or -0) gets +inf as its reciprocal, whatever its sign: the
+/// slab distances on that axis are then -inf/+inf when the origin lies strictly inside the slab,
+/// +inf/-inf-signed values that empty the interval when it lies outside, and NaN (0 * inf) when
+/// it lies exactly on a face. The interval update below is written so that a NaN leaves the
+/// interval unchanged, which is the right answer for an origin on a face: a ray lying in a box
+/// face touches the box (hard case 3). 0 * inf therefore never decides a slab test.
+struct Bvh4Ray {
+#if TG_BVH4_SSE
+  __m128 origin[3];      ///< origin, broadcast per axis
+  __m128 reciprocal[3];  ///< 1/direction, broadcast (+inf for +-0)
+#else
+  float origin[3];
+  float reciprocal[3];
+#endif
+  int nearRow[3];  ///< Bvh4Node::bounds row of the plane entered first per axis
+  int farRow[3];   ///< and of the plane left last
+  float tnear;     ///< smallest t that counts
+
+  Bvh4Ray(const Vec3f& org, const Vec3f& dir, float tnear_) : tnear(tnear_) {
+    for (int a = 0; a < 3; ++a) {
+      const float r = dir[a] == 0.0f ? std::numeric_limits<float>::infinity() : 1.0f / dir[a];
+#if TG_BVH4_SSE
+      origin[a] = _mm_set1_ps(org[a]);
+      reciprocal[a] = _mm_set1_ps(r);
+#else
+      origin[a] = org[a];
+      reciprocal[a] = r;
+#endif
+      // -0 counts as positive: its reciprocal was made +inf above.
+      const bool negative = dir[a] < 0.0f;
+      nearRow[a] = 2 * a + (negative ? 1 : 0);
+      farRow[a] = 2 * a + (negative ? 0 : 1);
+    }
+  }
+};
+
+/// Tests the four child boxes of `node` against [ray.tnear, tfar]. Returns a 4-bit mask of the
+/// slots hit and writes each hit slot's (widened) entry distance into `entry`.
+inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, float tfar,
+                                  float entry[4]) {
+#if TG_BVH4_SSE
+  __m128 tmin = _mm_set1_ps(ray.tnear), tmax = _mm_set1_ps(tfar);
+  for (int a = 0; a < 3; ++a) {
+    const __m128 n = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[ray.nearRow[a]]), ray.origin[a]),
+                                ray.reciprocal[a]);
+    const __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[ray.farRow[a]]), ray.origin[a]),
+                                ray.reciprocal[a]);
+    // MAXPS/MINPS return the second operand when either is NaN: a NaN slab distance (origin on
+    // a face of a slab the ray is parallel to) keeps the interval as it is.
+    tmin = _mm_max_ps(n, tmin);
+    tmax = _mm_min_ps(f, tmax);
+  }
+  // Widen both ends by their own magnitude. An infinite end stays infinite on the side that
+  // keeps the box, and turns into NaN (inf - inf) only on the side that already rejects it.
+  const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
+  const __m128 slack = _mm_set1_ps(kBvhIntervalSlack);
+  tmin = _mm_sub_ps(tmin, _mm_mul_ps(_mm_and_ps(tmin, absMask), slack));
+  tmax = _mm_add_ps(tmax, _mm_mul_ps(_mm_and_ps(tmax, absMask), slack));
+  _mm_storeu_ps(entry, tmin);
+  return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(tmin, tmax)));
+#else
+  unsigned mask = 0;
+  for (int s = 0; s < 4; ++s) {
+    float tmin = ray.tnear, tmax = tfar;
+    for (int a = 0; a < 3; ++a) {
+      const float n = (node.bounds[ray.nearRow[a]][s] - ray.origin[a]) * ray.reciprocal[a];
+      const float f = (node.bounds[ray.farRow[a]][s] - ray.origin[a]) * ray.reciprocal[a];
+      // Written so that NaN keeps the interval, like the SSE path.
+      tmin = n > tmin ? n : tmin;
+      tmax = f < tmax ? f : tmax;
+    }
+    tmin -= (tmin < 0.0f ? -tmin : tmin) * kBvhIntervalSlack;
+    tmax += (tmax < 0.0f ? -tmax : tmax) * kBvhIntervalSlack;
+    entry[s] = tmin;
+    if (tmin <= tmax) mask |= 1u << s;
+  }
+  return mask;
+#endif
+}
+
+/// Walks a BVH4 front to back: at each node the children hit are visited nearest entry first,
+/// the others pushed with their entry distance and skipped when popped beyond the closest hit.
+/// `leaf(first, count)` tests primitives [first, first + count) and returns true when it found a
+/// hit; closest-hit leaf functions lower `tfar` themselves. Any-hit queries return at the first
+/// hit. An entry exactly at tfar is still visited, so the tie rule sees every candidate at an
+/// equal t.
+template <bool AnyHit, class LeafFn>
+bool traverseBvh4(const Bvh4NodeArray& nodes, const Vec3f& origin, const Vec3f& direction,
+                  float tnear, const float& tfar, std::uint64_t& nodeVisits, LeafFn&& leaf) {
+  if (nodes.empty()) return false;
+  struct Entry {
+    std::uint32_t child, count;
+    float tmin;
+  };
+  const Bvh4Ray ray(origin, direction, tnear);
+  Entry stack[3 * kBvh4MaxDepth + 4];
+  int stackSize = 0;
+  Entry current{0, 0, tnear};
+  bool found = false;
+  for (;;) {
+    if (current.count == 0) {
+      ++nodeVisits;
+      const Bvh4Node& node = nodes[current.child];
+      float entry[4];
+      unsigned mask = intersectBvh4Node(node, ray, tfar, entry);
+      if (mask != 0) {
+        // Gather the children hit and order them by entry distance (slot order on ties, so the
+        // walk never depends on anything but the tree and the ray).
+        Entry hits[4];
+        int n = 0;
+        for (int s = 0; s < 4; ++s) {
+          if (!(mask & (1u << s))) continue;
+          Entry e{node.child[s], node.count[s], entry[s]};
+          int k = n++;
+          if constexpr (!AnyHit) {
+            for (; k > 0 && hits[k - 1].tmin > e.tmin; --k) hits[k] = hits[k - 1];
+          }
+          hits[k] = e;
+        }
+        // Farther children wait on the stack; the nearest is visited now.
+        for (int k = n - 1; k > 0; --k) stack[stackSize++] = hits[k];
+        current = hits[0];
+        continue;
+      }
+    } else {
+      if (leaf(current.child, current.count)) {
+        if constexpr (AnyHit) return true;
+        found = true;
+      }
+    }
+    // Pop the next subtree whose entry still lies before the closest hit.
+    for (;;) {
+      if (stackSize == 0) return found;
+      current = stack[--stackSize];
+      if (!(current.tmin > tfar)) break;
+    }
+  }
+}
+
+}  // namespace tg::detail

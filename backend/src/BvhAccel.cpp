@@ -1,0 +1,225 @@
+// Object BVH4: build from the mesh, refit after vertex moves, and closest/any-hit queries with
+// the watertight triangle test.
+#include "BvhAccel.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <chrono>
+
+namespace tg::detail {
+namespace {
+
+/// Meshes with fewer triangles are prepared and refitted on the calling thread: below this,
+/// scheduling tasks costs more than it saves (the scene already builds objects in parallel).
+constexpr std::size_t kParallelTriangles = 8192;
+
+/// Degenerate count and bounds of the non-degenerate triangles, reduced over a mesh.
+struct TriangleSummary {
+  std::size_t degenerate = 0;
+  Box3f bounds;
+  void merge(const TriangleSummary& o) {
+    degenerate += o.degenerate;
+    bounds.extend(o.bounds);
+  }
+};
+
+template <class Fn>
+TriangleSummary summarise(std::size_t n, Fn&& perTriangle) {
+  const auto block = [&](std::size_t begin, std::size_t end, TriangleSummary acc) {
+    for (std::size_t i = begin; i < end; ++i) perTriangle(i, acc);
+    return acc;
+  };
+  if (n < kParallelTriangles) return block(0, n, TriangleSummary{});
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, 1024), TriangleSummary{},
+      [&](const tbb::blocked_range<std::size_t>& r, const TriangleSummary& acc) {
+        return block(r.begin(), r.end(), acc);
+      },
+      [](TriangleSummary a, const TriangleSummary& b) {
+        a.merge(b);
+        return a;
+      });
+}
+
+template <class Fn>
+void forEachIndex(std::size_t n, std::size_t grain, Fn&& fn) {
+  if (n < kParallelTriangles) {
+    for (std::size_t i = 0; i < n; ++i) fn(i);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
+                    });
+}
+
+TriangleVertices verticesOf(const TriangleMesh& mesh, std::size_t triangle) {
+  const std::uint32_t* idx = mesh.indices.data() + 3 * triangle;
+  return {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
+}
+
+Box3f boxOf(const TriangleVertices& t) {
+  return {min(min(t.v0, t.v1), t.v2), max(max(t.v0, t.v1), t.v2)};
+}
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+}  // namespace
+
+void BvhAccel::build(const TriangleMesh& mesh) {
+  const auto start = std::chrono::steady_clock::now();
+  const bool fast = kind_ == AccelKind::BvhFast;
+  const std::size_t n = mesh.triangleCount();
+  stats_ = {};
+  stats_.triangles = n;
+
+  // One primitive per triangle; degenerate ones are marked by an empty box for now.
+  prims_.resize(n);
+  const TriangleSummary summary = summarise(n, [&](std::size_t i, TriangleSummary& acc) {
+    const TriangleVertices t = verticesOf(mesh, i);
+    const bool degenerate = isDegenerateTriangle(t.v0, t.v1, t.v2);
+    const Box3f box = boxOf(t);
+    prims_[i] = BvhPrim::make(degenerate && !fast ? Box3f{} : box, static_cast<std::uint32_t>(i));
+    if (degenerate) {
+      ++acc.degenerate;
+    } else {
+      acc.bounds.extend(box);
+    }
+  });
+  if (!fast && summary.degenerate != 0) {
+    // The SAH tree leaves degenerate triangles out: they can never be hit and would only cost
+    // tests. (The fast tree keeps them for refits; see BvhAccel.)
+    std::erase_if(prims_, [](const BvhPrim& p) { return p.lower[0] > p.upper[0]; });
+  }
+
+  BvhBuildOptions options;
+  options.traversalCost = static_cast<float>(kTraversalCost);
+  options.intersectionCost = static_cast<float>(kIntersectionCost);
+  if (fast) {
+    options.bins = 8;
+    options.allAxes = false;
+  }
+  BvhBuildResult result;
+  result.nodes.swap(nodes_);  // reuse the node memory of the previous build
+  buildBvh4(prims_, options, result);
+  nodes_.swap(result.nodes);
+
+  const std::size_t refs = prims_.size();
+  triangles_.resize(refs);
+  primIds_.resize(refs);
+  forEachIndex(refs, 4096, [&](std::size_t k) {
+    primIds_[k] = prims_[k].id;
+    triangles_[k] = verticesOf(mesh, prims_[k].id);
+  });
+  if (fast) {
+    indices_ = mesh.indices;
+  } else {
+    // A static tree is never refitted: keep neither the topology nor the build scratch.
+    std::vector<std::uint32_t>().swap(indices_);
+    std::vector<BvhPrim>().swap(prims_);
+  }
+  bounds_ = summary.bounds;
+  stats_.degenerate = summary.degenerate;
+  stats_.leaves = result.leaves;
+  stats_.maxDepth = result.maxDepth;
+  stats_.primReferences = refs;
+  stats_.sahCost = bvh4SahCost(nodes_, kTraversalCost, kIntersectionCost);
+  stats_.buildSahCost = stats_.sahCost;
+  finishStats();
+  stats_.buildMs = millisecondsSince(start);
+}
+
+bool BvhAccel::refit(const TriangleMesh& mesh) {
+  if (kind_ != AccelKind::BvhFast || mesh.indices != indices_) return false;
+  const auto start = std::chrono::steady_clock::now();
+  // New vertex copies in leaf order; the tree keeps its topology.
+  const TriangleSummary summary =
+      summarise(triangles_.size(), [&](std::size_t k, TriangleSummary& acc) {
+        const TriangleVertices t = verticesOf(mesh, primIds_[k]);
+        triangles_[k] = t;
+        if (isDegenerateTriangle(t.v0, t.v1, t.v2)) {
+          ++acc.degenerate;
+        } else {
+          acc.bounds.extend(boxOf(t));
+        }
+      });
+  // Leaf boxes, every node independently...
+  forEachIndex(nodes_.size(), 64, [&](std::size_t i) {
+    Bvh4Node& node = nodes_[i];
+    for (int s = 0; s < 4; ++s) {
+      if (node.count[s] == 0) continue;
+      Box3f box;
+      for (std::uint32_t k = node.child[s]; k < node.child[s] + node.count[s]; ++k)
+        box.extend(boxOf(triangles_[k]));
+      node.setBounds(s, box);
+    }
+  });
+  // ...then inner boxes bottom-up: children are numbered after their parents, so walking the
+  // array backwards sees every child before its parent.
+  for (std::size_t i = nodes_.size(); i-- > 0;) {
+    Bvh4Node& node = nodes_[i];
+    for (int s = 0; s < 4; ++s)
+      if (node.isInner(s)) node.setBounds(s, nodes_[node.child[s]].unionBounds());
+  }
+  bounds_ = summary.bounds;
+  stats_.degenerate = summary.degenerate;
+  stats_.sahCost = bvh4SahCost(nodes_, kTraversalCost, kIntersectionCost);
+  stats_.refitted = true;
+  stats_.buildMs = millisecondsSince(start);
+  return true;
+}
+
+void BvhAccel::finishStats() {
+  stats_.refitted = false;
+  stats_.nodes = nodes_.size() + stats_.leaves;
+  stats_.bytes = nodes_.capacity() * sizeof(Bvh4Node) +
+                 triangles_.capacity() * sizeof(TriangleVertices) +
+                 primIds_.capacity() * sizeof(std::uint32_t) +
+                 indices_.capacity() * sizeof(std::uint32_t) + prims_.capacity() * sizeof(BvhPrim);
+}
+
+bool BvhAccel::intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const {
+  return traverseBvh4<false>(
+      nodes_, ray.wt.origin, ray.wt.direction, ray.wt.tnear, ray.tfar, ctx.nodeVisits,
+      [&](std::uint32_t first, std::uint32_t count) {
+        bool found = false;
+        for (std::uint32_t k = first; k < first + count; ++k) {
+          ++ctx.triangleTests;
+          const TriangleVertices& tri = triangles_[k];
+          TriangleHit th;
+          if (!intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) continue;
+          const std::uint32_t prim = primIds_[k];
+          if (!hitPrecedes(th.t, ray.instanceId, prim, hit)) continue;
+          hit.t = th.t;
+          hit.u = th.u;
+          hit.v = th.v;
+          hit.primId = prim;
+          hit.instanceId = ray.instanceId;
+          hit.objectId = ray.objectId;
+          ray.tfar = th.t;
+          found = true;
+        }
+        return found;
+      });
+}
+
+bool BvhAccel::occluded(const ObjectRay& ray, TraversalContext& ctx) const {
+  return traverseBvh4<true>(
+      nodes_, ray.wt.origin, ray.wt.direction, ray.wt.tnear, ray.tfar, ctx.nodeVisits,
+      [&](std::uint32_t first, std::uint32_t count) {
+        for (std::uint32_t k = first; k < first + count; ++k) {
+          ++ctx.triangleTests;
+          const TriangleVertices& tri = triangles_[k];
+          TriangleHit th;
+          if (intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return true;
+        }
+        return false;
+      });
+}
+
+}  // namespace tg::detail

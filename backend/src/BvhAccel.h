@@ -1,0 +1,52 @@
+// The object-level 4-wide BVH behind the ObjectAccel interface (AccelKind::Bvh and
+// AccelKind::BvhFast). Internal header: callers create it through createObjectAccel.
+#pragma once
+
+#include <vector>
+
+#include "BvhBuilder.h"
+#include "tracegraph/backend/KdTree.h"
+#include "tracegraph/backend/ObjectAccel.h"
+
+namespace tg::detail {
+
+/// A BVH4 over one mesh. Leaves hold up to a few triangles, copied contiguously in leaf order
+/// for the same watertight test the kd-trees use, so hits are identical whichever accelerator
+/// found them.
+///
+/// AccelKind::Bvh: 32-bin SAH over all axes, degenerate triangles left out; no refit.
+/// AccelKind::BvhFast: 8 bins along the widest axis, degenerate triangles kept in the tree (the
+/// watertight test never hits them) so that a later refit finds every triangle when a
+/// degenerate one opens up again (hard case 19); refit() supported.
+class BvhAccel final : public ObjectAccel {
+ public:
+  /// An unbuilt BVH; `kind` is AccelKind::Bvh or AccelKind::BvhFast.
+  explicit BvhAccel(AccelKind kind) : kind_(kind) {}
+
+  AccelKind kind() const override { return kind_; }
+  void build(const TriangleMesh& mesh) override;
+  bool refit(const TriangleMesh& mesh) override;
+  Box3f bounds() const override { return bounds_; }
+  bool intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const override;
+  bool occluded(const ObjectRay& ray, TraversalContext& ctx) const override;
+  const BuildStats& stats() const override { return stats_; }
+
+ private:
+  /// SAH weights used for the cost figure (and by the builders): a triangle test costs about
+  /// as much as a four-box node test.
+  static constexpr double kTraversalCost = 1.0;
+  static constexpr double kIntersectionCost = 1.0;
+
+  void finishStats();
+
+  AccelKind kind_;
+  Bvh4NodeArray nodes_;
+  std::vector<TriangleVertices> triangles_;  ///< in leaf order
+  std::vector<std::uint32_t> primIds_;       ///< mesh triangle index of each triangles_ entry
+  std::vector<std::uint32_t> indices_;       ///< mesh indices at the last build (refit check)
+  std::vector<BvhPrim> prims_;               ///< build scratch, kept between builds
+  Box3f bounds_;
+  BuildStats stats_;
+};
+
+}  // namespace tg::detail
