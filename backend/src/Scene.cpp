@@ -95,6 +95,35 @@ struct Scene::Impl {
   }
 };
 
+SceneOptions sceneOptionsFor(Engine engine) {
+  SceneOptions o;
+  switch (engine) {
+    case Engine::KdTree:
+      o.topLevel = TopLevelKind::KdTree;
+      o.staticAccel = AccelKind::SahKdTree;
+      o.deformingAccel = AccelKind::FastKdTree;
+      break;
+    case Engine::Bvh:
+      o.topLevel = TopLevelKind::Bvh;
+      o.staticAccel = AccelKind::Bvh;
+      o.deformingAccel = AccelKind::BvhFast;
+      break;
+  }
+  return o;
+}
+
+bool parseEngine(std::string_view name, Engine& engine) {
+  if (name == "kd") {
+    engine = Engine::KdTree;
+    return true;
+  }
+  if (name == "bvh") {
+    engine = Engine::Bvh;
+    return true;
+  }
+  return false;
+}
+
 Scene::Scene(const SceneOptions& options) : impl_(std::make_unique<Impl>()) {
   impl_->options = options;
   impl_->topLevel = createTopLevelAccel(options.topLevel);
@@ -290,8 +319,8 @@ bool Scene::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const {
   const Vec3d a(mesh.positions[mesh.indices[3 * hit.primId]]);
   const Vec3d b(mesh.positions[mesh.indices[3 * hit.primId + 1]]);
   const Vec3d c(mesh.positions[mesh.indices[3 * hit.primId + 2]]);
-  const Vec3d n = impl_->instances[hit.instanceId].worldToObject.transformTransposed(
-      cross(b - a, c - a));
+  const Vec3d n =
+      impl_->instances[hit.instanceId].worldToObject.transformTransposed(cross(b - a, c - a));
   hit.geometricNormal = Vec3f(normalize(n));
   return true;
 }
@@ -331,9 +360,13 @@ std::size_t Scene::instancedTriangleCount() const {
   return n;
 }
 
-const TopLevelAccel& Scene::topLevel() const { return *impl_->topLevel; }
+const TopLevelAccel& Scene::topLevel() const {
+  return *impl_->topLevel;
+}
 
-const SceneOptions& Scene::options() const { return impl_->options; }
+const SceneOptions& Scene::options() const {
+  return impl_->options;
+}
 
 Scene::SurfaceData Scene::surfaceAt(const Ray& ray, const Hit& hit) const {
   SurfaceData sd;

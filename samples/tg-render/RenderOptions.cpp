@@ -45,9 +45,10 @@ bool parseRange(const std::string& text, std::pair<int, int>& range) {
 
 std::variant<RenderOptions, int> parseRenderOptions(int argc, char** argv) {
   RenderOptions o;
-  CLI::App app{"tg-render: renders frames of a scene (BART .aff/.nff, .x3d, glTF/OBJ/PLY via "
-               "Assimp) or, without SCENE, the built-in demo"};
-  std::string scene, size, frames, mode = "whitted", aovs;
+  CLI::App app{
+      "tg-render: renders frames of a scene (BART .aff/.nff, .x3d, glTF/OBJ/PLY via "
+      "Assimp) or, without SCENE, the built-in demo"};
+  std::string scene, size, frames, mode = "whitted", aovs, accel = "bvh";
   int frame = -1;
   double time = 0.0;
   app.add_option("SCENE", scene, "scene file; omitted: the built-in demo scene");
@@ -63,6 +64,7 @@ std::variant<RenderOptions, int> parseRenderOptions(int argc, char** argv) {
   app.add_option("--mode", mode, "opengl|whitted|normals|classes|instances (default whitted)");
   app.add_option("--depth", o.depth, "reflection/refraction depth (default 5)")
       ->check(CLI::Range(0, 64));
+  app.add_option("--accel", accel, "bvh|kd: the BVH engine (default) or the paper's kd-trees");
   app.add_option("--aov", aovs, "comma-separated AOVs: depth,normal,instance,prim");
   app.add_option("--stats", o.statsFile, "write per-frame statistics as JSON to FILE");
   app.add_option("--threads", o.threads, "worker threads (default: all cores)")
@@ -96,14 +98,20 @@ std::variant<RenderOptions, int> parseRenderOptions(int argc, char** argv) {
   if (*timeOpt) o.time = time;
   const std::optional<RenderMode> m = parseRenderMode(mode);
   if (!m) return usage("unknown --mode '" + mode + "'");
+  if (!parseEngine(accel, o.engine)) return usage("unknown --accel '" + accel + "' (bvh or kd)");
   o.mode = *m;
   std::stringstream list(aovs);
   for (std::string item; std::getline(list, item, ',');) {
-    if (item == "depth") o.aovs.depth = true;
-    else if (item == "normal") o.aovs.normal = true;
-    else if (item == "instance") o.aovs.instance = true;
-    else if (item == "prim") o.aovs.prim = true;
-    else if (!item.empty()) return usage("unknown AOV '" + item + "'");
+    if (item == "depth")
+      o.aovs.depth = true;
+    else if (item == "normal")
+      o.aovs.normal = true;
+    else if (item == "instance")
+      o.aovs.instance = true;
+    else if (item == "prim")
+      o.aovs.prim = true;
+    else if (!item.empty())
+      return usage("unknown AOV '" + item + "'");
   }
   return o;
 }

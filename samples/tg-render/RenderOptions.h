@@ -3,10 +3,11 @@
 
 #include <cstdint>
 #include <optional>
-#include <variant>
 #include <string>
+#include <variant>
 #include <vector>
 
+#include "tracegraph/backend/Scene.h"
 #include "tracegraph/backend/render/Renderer.h"
 
 namespace tg::render_tool {
@@ -26,12 +27,13 @@ struct RenderOptions {
   std::string output = "out.png";
   std::uint32_t width = 640, height = 480;
   bool sizeGiven = false;
-  std::optional<int> frame;               ///< --frame N
+  std::optional<int> frame;                   ///< --frame N
   std::optional<std::pair<int, int>> frames;  ///< --frames A:B (inclusive)
-  std::optional<double> time;             ///< --time T (seconds)
-  double fps = 30.0;                      ///< frame rate for scenes without their own range
+  std::optional<double> time;                 ///< --time T (seconds)
+  double fps = 30.0;                          ///< frame rate for scenes without their own range
   RenderMode mode = RenderMode::Whitted;
   int depth = 5;
+  Engine engine = Engine::Bvh;  ///< --accel kd|bvh
   AovSelection aovs;
   std::string statsFile;
   int threads = 0;  ///< 0: all cores

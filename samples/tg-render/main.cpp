@@ -67,7 +67,9 @@ int run(const RenderOptions& o) {
   std::uint32_t width = o.width, height = o.height;
   if (!o.sizeGiven && source.resolution) std::tie(width, height) = *source.resolution;
 
-  SceneGraph graph;
+  SyncOptions syncOptions;
+  syncOptions.scene = sceneOptionsFor(o.engine);
+  SceneGraph graph(syncOptions);
   graph.setRoot(source.root);
   RenderSettings settings;
   settings.mode = o.mode;
@@ -111,7 +113,8 @@ int run(const RenderOptions& o) {
   if (!o.statsFile.empty()) {
     std::ofstream out(o.statsFile);
     out << "{\"frames\": [";
-    for (std::size_t i = 0; i < allStats.size(); ++i) out << (i ? ",\n  " : "\n  ") << toJson(allStats[i]);
+    for (std::size_t i = 0; i < allStats.size(); ++i)
+      out << (i ? ",\n  " : "\n  ") << toJson(allStats[i]);
     out << "\n]}\n";
     if (!out) {
       std::cerr << "tg-render: " << o.statsFile << ": cannot write statistics\n";
@@ -123,9 +126,8 @@ int run(const RenderOptions& o) {
   if (!o.quiet)
     std::cerr << "tg-render: " << source.name << ", " << times.size() << " frame"
               << (times.size() == 1 ? "" : "s") << " " << width << "x" << height << " "
-              << renderModeName(o.mode) << " in " << seconds << " s: "
-              << times.size() / seconds << " fps, "
-              << (renderMs > 0.0 ? rays / (renderMs * 1e3) : 0.0) << " Mrays/s, wrote "
+              << renderModeName(o.mode) << " in " << seconds << " s: " << times.size() / seconds
+              << " fps, " << (renderMs > 0.0 ? rays / (renderMs * 1e3) : 0.0) << " Mrays/s, wrote "
               << naming.image(numbers.front()) << (numbered ? " ..." : "") << "\n";
   return kSuccess;
 }

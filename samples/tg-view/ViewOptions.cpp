@@ -32,7 +32,7 @@ std::variant<ViewOptions, int> parseViewOptions(int argc, char** argv) {
       "Mouse: left drag orbits, right or middle drag pans, wheel zooms. Keys: space play/pause, "
       "right/left arrow step a frame, 1-5 opengl/whitted/normals/classes/instances, +/- "
       "resolution, Esc or q quit."};
-  std::string scene, size, mode = "whitted";
+  std::string scene, size, mode = "whitted", accel = "bvh";
   app.add_option("SCENE", scene, "scene file; omitted: the built-in demo scene");
   app.add_option("--size", size, "window size WxH (default: the scene's own, else 640x480)");
   app.add_option("--fps", o.fps, "frame rate of scenes without their own range (default 30)")
@@ -40,6 +40,7 @@ std::variant<ViewOptions, int> parseViewOptions(int argc, char** argv) {
   app.add_option("--mode", mode, "opengl|whitted|normals|classes|instances (default whitted)");
   app.add_option("--depth", o.depth, "reflection/refraction depth (default 5)")
       ->check(CLI::Range(0, 64));
+  app.add_option("--accel", accel, "bvh|kd: the BVH engine (default) or the paper's kd-trees");
   app.add_option("--threads", o.threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
   app.add_option("--scale", o.scale, "render resolution relative to the window (default 1)")
@@ -66,6 +67,7 @@ std::variant<ViewOptions, int> parseViewOptions(int argc, char** argv) {
   }
   const std::optional<RenderMode> m = parseRenderMode(mode);
   if (!m) return usage("unknown --mode '" + mode + "'");
+  if (!parseEngine(accel, o.engine)) return usage("unknown --accel '" + accel + "' (bvh or kd)");
   o.mode = *m;
   return o;
 }

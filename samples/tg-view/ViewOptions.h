@@ -6,6 +6,7 @@
 #include <string>
 #include <variant>
 
+#include "tracegraph/backend/Scene.h"
 #include "tracegraph/backend/render/Renderer.h"
 
 namespace tg::view_tool {
@@ -21,9 +22,10 @@ struct ViewOptions {
   double fps = 30.0;  ///< frame rate of scenes without their own range
   RenderMode mode = RenderMode::Whitted;
   int depth = 5;
-  int threads = 0;         ///< 0: all cores
-  double scale = 1.0;      ///< render resolution / window resolution
-  std::string screenshot;  ///< non-empty: render `frames` frames, save the last, exit
+  Engine engine = Engine::Bvh;  ///< --accel kd|bvh
+  int threads = 0;              ///< 0: all cores
+  double scale = 1.0;           ///< render resolution / window resolution
+  std::string screenshot;       ///< non-empty: render `frames` frames, save the last, exit
   int frames = 1;
 };
 

@@ -108,6 +108,7 @@ struct Viewer {
 
   Viewer(const ViewOptions& o, const SceneSource& source)
       : options(o),
+        graph(SyncOptions{.scene = sceneOptionsFor(o.engine)}),
         renderer(graph),
         playback(source.timing, o.fps),
         scale(o.scale),

@@ -65,7 +65,10 @@ std::string toJson(const FrameStats& s) {
        ",\"shadow\":" + std::to_string(s.rays.shadow) +
        ",\"reflection\":" + std::to_string(s.rays.reflection) +
        ",\"refraction\":" + std::to_string(s.rays.refraction) +
-       ",\"total\":" + std::to_string(s.rays.total()) + "}}";
+       ",\"total\":" + std::to_string(s.rays.total()) + "}";
+  // Fields added after the first version go last, so that readers of the original keys are
+  // unaffected.
+  j += ",\"objects_refitted\":" + std::to_string(s.objectsRefitted) + "}";
   return j;
 }
 

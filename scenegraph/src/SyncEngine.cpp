@@ -222,6 +222,7 @@ FrameStats SyncEngine::sync(double time) {
   stats.triangles = instances_.totals();
   stats.instances = instances_.size();
   stats.objectsRebuilt = commit.objectsRebuilt;
+  stats.objectsRefitted = commit.objectsRefitted;
   stats.trianglesRebuilt = commit.trianglesRebuilt;
   stats.reclassified = debug_.promoted + debug_.demoted;
   stats.rebuildMs = commit.rebuildMs;

@@ -135,11 +135,18 @@ BOOST_AUTO_TEST_CASE(kinds_are_named_and_created) {
   BOOST_TEST(topLevelKindName(TopLevelKind::Bvh) == "bvh");
   for (AccelKind kind : kBvhKinds) BOOST_TEST((createObjectAccel(kind)->kind() == kind));
   BOOST_TEST((createTopLevelAccel(TopLevelKind::Bvh)->kind() == TopLevelKind::Bvh));
-  // The defaults stay on the kd-trees until the BVHs have been measured.
+  // The BVH engine is the default; the paper's kd-trees stay one option away.
   const SceneOptions defaults;
-  BOOST_TEST((defaults.staticAccel == AccelKind::SahKdTree));
-  BOOST_TEST((defaults.deformingAccel == AccelKind::FastKdTree));
-  BOOST_TEST((defaults.topLevel == TopLevelKind::KdTree));
+  BOOST_TEST((defaults.staticAccel == AccelKind::Bvh));
+  BOOST_TEST((defaults.deformingAccel == AccelKind::BvhFast));
+  BOOST_TEST((defaults.topLevel == TopLevelKind::Bvh));
+  const SceneOptions kd = sceneOptionsFor(Engine::KdTree);
+  BOOST_TEST((kd.staticAccel == AccelKind::SahKdTree));
+  BOOST_TEST((kd.deformingAccel == AccelKind::FastKdTree));
+  BOOST_TEST((kd.topLevel == TopLevelKind::KdTree));
+  Engine engine = Engine::KdTree;
+  BOOST_TEST((parseEngine("bvh", engine) && engine == Engine::Bvh));
+  BOOST_TEST(!parseEngine("octree", engine));
   Scene scene(optionsFor(AccelKind::Bvh));
   BOOST_TEST((scene.topLevel().kind() == TopLevelKind::Bvh));
 }
@@ -341,7 +348,7 @@ BOOST_AUTO_TEST_CASE(scene_refits_deforming_objects_while_the_tree_stays_good) {
   checkScene(scene, makeRays(rng, scene.bounds(), 1500), "new topology");
 
   // The kd-trees never refit.
-  Scene kd;
+  Scene kd(sceneOptionsFor(Engine::KdTree));
   const ObjectId kdObject = kd.createObject(base, ObjectUsage::Deforming);
   kd.createInstance(kdObject);
   kd.commit();

@@ -16,10 +16,13 @@ using namespace tg::test;
 
 namespace {
 
-constexpr AccelKind kKinds[] = {AccelKind::SahKdTree, AccelKind::FastKdTree};
+constexpr AccelKind kKinds[] = {AccelKind::SahKdTree, AccelKind::FastKdTree, AccelKind::Bvh,
+                                AccelKind::BvhFast};
 
+/// Every object accelerator under the top level of its own engine.
 SceneOptions optionsFor(AccelKind kind) {
-  SceneOptions o;
+  const bool kd = kind == AccelKind::SahKdTree || kind == AccelKind::FastKdTree;
+  SceneOptions o = sceneOptionsFor(kd ? Engine::KdTree : Engine::Bvh);
   o.staticAccel = kind;
   o.deformingAccel = kind;
   return o;
@@ -64,8 +67,8 @@ BOOST_AUTO_TEST_CASE(case01_closed_meshes_do_not_leak) {
       scene.commit();
       std::size_t rays = 0;
       const std::size_t leaks = countLeaks(scene, meshes[m], origins[m], rays);
-      BOOST_TEST_MESSAGE(accelKindName(kind) << " mesh " << m << ": " << leaks << " leaks in "
-                                             << rays << " rays");
+      BOOST_TEST_MESSAGE(accelKindName(kind)
+                         << " mesh " << m << ": " << leaks << " leaks in " << rays << " rays");
       BOOST_TEST(leaks == 0u);
     }
   }
@@ -158,8 +161,10 @@ BOOST_AUTO_TEST_CASE(case04_split_planes_through_primitives_and_flat_objects) {
       std::vector<Ray> rays = makeRays(rng, scene.bounds(), 8000, mesh->positions);
       // Rays lying in z = 0 and in integer planes.
       for (int i = 0; i < 200; ++i)
-        rays.push_back({{-10.0f, static_cast<float>(i % 7), static_cast<float>(i % 3)}, 0.0f,
-                        {1.0f, 0.01f * static_cast<float>(i % 5), 0.0f}, kInfinity});
+        rays.push_back({{-10.0f, static_cast<float>(i % 7), static_cast<float>(i % 3)},
+                        0.0f,
+                        {1.0f, 0.01f * static_cast<float>(i % 5), 0.0f},
+                        kInfinity});
       const ReferenceIntersector ref(scene);
       const DiffResult d = compareWithReference(scene, ref, rays);
       BOOST_TEST(d.mismatches == 0u, accelKindName(kind) << ": " << d.firstMismatch);
@@ -212,9 +217,8 @@ BOOST_AUTO_TEST_CASE(case06_huge_and_tiny_scales) {
       std::mt19937 rng(6);
       const std::vector<Ray> rays = makeRays(rng, scene.bounds(), 3000);
       const DiffResult d = compareWithReference(scene, ReferenceIntersector(scene), rays);
-      BOOST_TEST_MESSAGE("scale " << scale << " translation " << translation << ": "
-                                  << d.mismatches << " mismatches, " << d.ambiguous
-                                  << " ambiguous of " << d.rays);
+      BOOST_TEST_MESSAGE("scale " << scale << " translation " << translation << ": " << d.mismatches
+                                  << " mismatches, " << d.ambiguous << " ambiguous of " << d.rays);
       if (d.mismatches == 0) largestAgreeing = std::max(largestAgreeing, translation);
       // Where float can still resolve the object (its size is at least ~1e-4 of its distance
       // from the origin) the answers must agree; beyond, results are reported only.
@@ -254,8 +258,7 @@ BOOST_AUTO_TEST_CASE(case07_instanced_t_within_16_ulps_up_to_1e6) {
       worstUlps = std::max(worstUlps, std::abs(double(hit.t) - expected.t) / ulp);
     }
     BOOST_TEST_MESSAGE("translation " << translation << ": worst t error " << worstUlps
-                                      << " ulps through the instance over " << compared
-                                      << " rays");
+                                      << " ulps through the instance over " << compared << " rays");
     BOOST_TEST(compared > 1000);
     BOOST_TEST(worstUlps <= 16.0);
   }
@@ -283,8 +286,9 @@ BOOST_AUTO_TEST_CASE(case08_scaled_instances_share_t) {
 
 BOOST_AUTO_TEST_CASE(case09_mirrored_instances_keep_outward_normals) {
   const TriangleMesh box = makeBox({-1, -1, -1}, {1, 1, 1});
-  for (const Affine3d& m : {Affine3d::scaling({-1.0, 1.0, 1.0}),
-                            Affine3d::scaling({-2.0, 0.5, 3.0}) * Affine3d::rotation({0, 1, 0}, 20)}) {
+  for (const Affine3d& m :
+       {Affine3d::scaling({-1.0, 1.0, 1.0}),
+        Affine3d::scaling({-2.0, 0.5, 3.0}) * Affine3d::rotation({0, 1, 0}, 20)}) {
     BOOST_TEST(m.determinant() < 0.0);
     Scene instanced;
     instanced.createInstance(instanced.createObject(box), m);
@@ -312,12 +316,11 @@ BOOST_AUTO_TEST_CASE(case09_mirrored_instances_keep_outward_normals) {
 BOOST_AUTO_TEST_CASE(case10_singular_matrices_rejected_tiny_scales_render) {
   Scene scene;
   const ObjectId box = scene.createObject(makeBox());
-  BOOST_CHECK_EXCEPTION(scene.createInstance(box, Affine3d::scaling({1.0, 0.0, 1.0})), Error,
-                        [](const Error& e) {
-                          return std::string(e.what()).find("createInstance") !=
-                                     std::string::npos &&
-                                 std::string(e.what()).find("singular") != std::string::npos;
-                        });
+  BOOST_CHECK_EXCEPTION(
+      scene.createInstance(box, Affine3d::scaling({1.0, 0.0, 1.0})), Error, [](const Error& e) {
+        return std::string(e.what()).find("createInstance") != std::string::npos &&
+               std::string(e.what()).find("singular") != std::string::npos;
+      });
   BOOST_TEST(scene.instanceCount() == 0u);
   const InstanceId tiny = scene.createInstance(box, Affine3d::scaling({1.0, 1e-6, 1.0}));
   scene.commit();
@@ -349,7 +352,8 @@ BOOST_AUTO_TEST_CASE(case11_interval_ends_are_inclusive) {
     BOOST_TEST(!scene.occluded({{0, 0, 0}, 0.0f, {0, 0, 1}, std::nextafter(5.0f, 0.0f)}));
     // tnear exactly at the hit: hit; one ulp beyond: miss.
     BOOST_TEST(scene.intersect({{0, 0, 0}, 5.0f, {0, 0, 1}, kInfinity}, hit));
-    BOOST_TEST(!scene.intersect({{0, 0, 0}, std::nextafter(5.0f, 6.0f), {0, 0, 1}, kInfinity}, hit));
+    BOOST_TEST(
+        !scene.intersect({{0, 0, 0}, std::nextafter(5.0f, 6.0f), {0, 0, 1}, kInfinity}, hit));
     // Origin at the border of the box, looking along it.
     BOOST_TEST(scene.intersect({{-1, -1, 0}, 0.0f, {0, 0, 1}, kInfinity}, hit));
   }
@@ -376,7 +380,8 @@ BOOST_AUTO_TEST_CASE(case12_infinite_and_huge_tfar) {
 BOOST_AUTO_TEST_CASE(case18_coincident_and_touching_instances) {
   Scene coincident;
   const ObjectId sphere = coincident.createObject(makeIcosphere(1));
-  for (int i = 0; i < 1000; ++i) coincident.createInstance(sphere, Affine3d::translation({3, 3, 3}));
+  for (int i = 0; i < 1000; ++i)
+    coincident.createInstance(sphere, Affine3d::translation({3, 3, 3}));
   coincident.commit();
   BOOST_TEST(coincident.topLevel().stats().maxDepth <= 64u);
   std::mt19937 rng(11);

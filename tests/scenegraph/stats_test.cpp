@@ -17,6 +17,7 @@ BOOST_AUTO_TEST_CASE(json_has_exactly_the_documented_keys) {
   s.instances = 4;
   s.objectsRebuilt = 1;
   s.trianglesRebuilt = 3;
+  s.objectsRefitted = 5;
   s.reclassified = 2;
   s.syncMs = 1.5;
   s.rebuildMs = 0.5;
@@ -28,7 +29,7 @@ BOOST_AUTO_TEST_CASE(json_has_exactly_the_documented_keys) {
              "\"deforming\":3},\"instances\":4,\"objects_rebuilt\":1,\"triangles_rebuilt\":3,"
              "\"reclassified\":2,\"sync_ms\":1.5,\"rebuild_ms\":0.5,\"toplevel_ms\":0.125,"
              "\"render_ms\":10,\"rays\":{\"primary\":1000,\"shadow\":2000,\"reflection\":300,"
-             "\"refraction\":45,\"total\":3345}}");
+             "\"refraction\":45,\"total\":3345},\"objects_refitted\":5}");
 }
 
 BOOST_AUTO_TEST_CASE(sync_fills_the_frame_statistics) {

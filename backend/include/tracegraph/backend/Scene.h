@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "tracegraph/backend/Affine.h"
@@ -30,19 +31,33 @@ enum class ObjectUsage : std::uint8_t {
 
 /// Options fixed when a scene is created.
 struct SceneOptions {
+  // Defaults: the BVH engine, measured faster to build and to trace than the paper's kd-trees
+  // (BENCHMARKS.md); sceneOptionsFor(Engine::KdTree) selects the kd-trees.
   /// Accelerator over the instances.
-  TopLevelKind topLevel = TopLevelKind::KdTree;
+  TopLevelKind topLevel = TopLevelKind::Bvh;
   /// Accelerator kinds per usage; callers of later engines change these, not their code.
   /// Used for static and rigid objects.
-  AccelKind staticAccel = AccelKind::SahKdTree;
+  AccelKind staticAccel = AccelKind::Bvh;
   /// Accelerator of deforming objects. When it supports refitting (AccelKind::BvhFast), commit()
   /// refits instead of rebuilding while the triangles stay the same and the refitted tree's SAH
   /// cost stays within maxRefitCostRatio of its cost at the last full build.
-  AccelKind deformingAccel = AccelKind::FastKdTree;
+  AccelKind deformingAccel = AccelKind::BvhFast;
   /// Largest sahCost / buildSahCost (see BuildStats) a refitted tree may reach before commit()
   /// rebuilds it instead.
   double maxRefitCostRatio = 1.5;
 };
+
+/// The two engines, each a set of accelerators for every usage and the top level.
+enum class Engine : std::uint8_t {
+  KdTree,  ///< the paper's: SAH kd-trees, the fast kd-tree for deforming objects, Algorithm 1
+  Bvh,     ///< wide BVHs: binned-SAH BVH4, the fast BVH with refit, a BVH over instances
+};
+
+/// Options that select every accelerator of `engine`.
+SceneOptions sceneOptionsFor(Engine engine);
+
+/// Parses "kd" or "bvh" (what tools accept for --accel); false for anything else.
+bool parseEngine(std::string_view name, Engine& engine);
 
 /// What one commit() did, for per-frame statistics.
 struct CommitStats {
@@ -132,10 +147,10 @@ class Scene {
   /// Interpolated shading data at a hit (for renderers): world-space shading normal (the
   /// geometric normal when the mesh has none, flipped to its side) and texture coordinates.
   struct SurfaceData {
-    Vec3f position;        ///< world-space hit point, origin + t * direction
-    Vec3f geometricNormal; ///< unit, world space
-    Vec3f shadingNormal;   ///< unit, world space, interpolated when the mesh has normals
-    Vec2f uv;              ///< interpolated, or (u, v) barycentrics when the mesh has none
+    Vec3f position;         ///< world-space hit point, origin + t * direction
+    Vec3f geometricNormal;  ///< unit, world space
+    Vec3f shadingNormal;    ///< unit, world space, interpolated when the mesh has normals
+    Vec2f uv;               ///< interpolated, or (u, v) barycentrics when the mesh has none
     /// True when uv comes from the mesh's texture coordinates.
     bool hasUv = false;
   };

@@ -25,9 +25,12 @@ struct FrameStats {
   double time = 0.0;          ///< clock time of the frame, seconds
   TriangleCounts triangles;   ///< triangles by dynamics class
   std::size_t instances = 0;  ///< backend instances
-  /// Backend objects whose accelerator was (re)built.
+  /// Backend objects whose accelerator was built from scratch.
   std::size_t objectsRebuilt = 0;
-  /// Triangles in those objects.
+  /// Deforming objects whose accelerator was refitted instead (same triangles, boxes updated;
+  /// chosen by the backend while the tree's quality stays within bounds).
+  std::size_t objectsRefitted = 0;
+  /// Triangles in the rebuilt and the refitted objects.
   std::size_t trianglesRebuilt = 0;
   std::size_t reclassified = 0;  ///< nodes whose dynamics class changed this frame
   double syncMs = 0.0;           ///< whole sync, including rebuildMs and toplevelMs
