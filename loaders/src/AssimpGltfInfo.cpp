@@ -19,11 +19,14 @@ struct Json {
   double number = 0.0;
   std::string string;
   std::vector<Json> array;
-  std::vector<std::pair<std::string, Json>> object;
+  // An object's members as two parallel lists: a vector of pairs holding Json would need Json
+  // complete where it is declared, which the standard guarantees for std::vector<Json> only.
+  std::vector<std::string> keys;
+  std::vector<Json> values;
 
   const Json* get(std::string_view k) const {
-    for (const auto& [key, v] : object)
-      if (key == k) return &v;
+    for (std::size_t i = 0; i < keys.size(); ++i)
+      if (keys[i] == k) return &values[i];
     return nullptr;
   }
   /// Elements of an array member (empty when absent or not an array).
@@ -86,7 +89,8 @@ class Parser {
         skip();
         std::string k = str();
         if (!eat(':')) fail("expected ':'");
-        v.object.emplace_back(std::move(k), value(depth + 1));
+        v.keys.push_back(std::move(k));
+        v.values.push_back(value(depth + 1));
       } while (eat(','));
       if (!eat('}')) fail("expected '}'");
     } else if (c == '[') {
