@@ -48,6 +48,8 @@ int main(int argc, char** argv) {
   LoadOptions load;
   SyncSuiteOptions syncOptions;
   FrameSuiteOptions frameOptions;
+  AccuracyOptions accuracy;
+  accuracy.dataDir = TG_BENCH_DATA_DIR;
 
   CLI::App* toplevelCmd =
       app.add_subcommand("toplevel", "Top-level rebuild over N moving instances of a box");
@@ -130,6 +132,13 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   addCommonOptions(*frameCmd, common);
 
+  CLI::App* accuracyCmd = app.add_subcommand(
+      "accuracy", "The hard numerical cases measured against the double-precision reference");
+  accuracyCmd->add_flag("--quick", accuracy.quick, "Small sizes (a CI smoke run)");
+  accuracyCmd->add_option("--data", accuracy.dataDir, "Folder holding bart/ (BART scenes)")
+      ->capture_default_str();
+  addCommonOptions(*accuracyCmd, common);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -155,6 +164,8 @@ int main(int argc, char** argv) {
       report = runSyncSuite(common, syncOptions);
     } else if (*frameCmd) {
       report = runFrameSuite(common, frameOptions);
+    } else if (*accuracyCmd) {
+      report = runAccuracySuite(common, accuracy);
     } else if (*traceCmd) {
       report = runTraceSuite(common, trace);
     } else {
