@@ -58,3 +58,15 @@ double ulpError(float t, double reference);
 std::vector<RayOutcome> traceOutcomes(const Scene& scene, std::span<const Ray> rays);
 
 }  // namespace tg::bench
+
+namespace tg::bench {
+
+/// Rays every build-style suite traces once after its timed builds, to show that what it timed
+/// still answers correctly.
+inline constexpr std::size_t kProbeRays = 512;
+
+/// Traces kProbeRays probe rays (makeProbeRays over the scene's bounds) through the committed
+/// `scene` and judges them against a reference built from it.
+Judgement probeScene(const Scene& scene, std::uint64_t seed = 99);
+
+}  // namespace tg::bench

@@ -91,8 +91,8 @@ BenchReport runFrameSuite(const CommonOptions& common, const FrameSuiteOptions& 
 /// double-precision brute-force reference. Every row carries a time (of the rays it traced) and
 /// error fields (leaks_per_1e7, ulp_max, acne_pct, mismatches, ...).
 struct AccuracyOptions {
-  bool quick = false;    ///< smaller meshes, fewer rays and translations
-  std::string dataDir;   ///< folder holding bart/; empty: the BART cases are skipped
+  bool quick = false;   ///< smaller meshes, fewer rays and translations
+  std::string dataDir;  ///< folder holding bart/; empty: the BART cases are skipped
 };
 BenchReport runAccuracySuite(const CommonOptions& common, const AccuracyOptions& options);
 
