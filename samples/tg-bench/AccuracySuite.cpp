@@ -733,7 +733,7 @@ void bartCase(BenchReport& report, const CommonOptions& common, const AccuracyOp
       continue;
     }
     const ImageSize size = sizes.bartSize;
-    const std::string caseName = std::string("BART ") + name + " primary " +
+    const std::string caseName = std::string("BART ids: ") + name + " primary " +
                                  std::to_string(size.width) + "x" + std::to_string(size.height);
     progress("accuracy: " + caseName);
     const BenchScene bench = loadBenchScene(path.string());
@@ -758,6 +758,7 @@ void bartCase(BenchReport& report, const CommonOptions& common, const AccuracyOp
       const std::vector<RayOutcome> sub = subsampleOutcomes(out, sizes.bartJudged);
       row.extra.push_back(realField("ref_mismatches",
                                     static_cast<double>(judgeOutcomes(expected, sub).mismatches)));
+      row.extra.push_back(intField("judged", static_cast<std::int64_t>(judged.size())));
       row.extra.push_back(realField("psnr_db", eyeLightPsnr(judgeScene, judged, expected, sub)));
     };
     const auto traceOurs = [&](const BenchScene& b, const SceneOptions& o, const std::string& impl,

@@ -137,10 +137,6 @@ std::vector<RayOutcome> traceOutcomes(const Scene& scene, std::span<const Ray> r
   return out;
 }
 
-}  // namespace tg::bench
-
-namespace tg::bench {
-
 Judgement probeScene(const Scene& scene, std::uint64_t seed) {
   const std::vector<Ray> rays = makeProbeRays(scene.bounds(), kProbeRays, seed);
   const ReferenceIntersector reference(scene);

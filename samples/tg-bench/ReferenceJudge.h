@@ -57,10 +57,6 @@ double ulpError(float t, double reference);
 /// Outcomes of tracing `rays` through `scene` (parallel in the calling arena).
 std::vector<RayOutcome> traceOutcomes(const Scene& scene, std::span<const Ray> rays);
 
-}  // namespace tg::bench
-
-namespace tg::bench {
-
 /// Rays every build-style suite traces once after its timed builds, to show that what it timed
 /// still answers correctly.
 inline constexpr std::size_t kProbeRays = 512;
