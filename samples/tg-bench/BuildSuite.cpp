@@ -2,6 +2,7 @@
 // load-time cost of a static scene.
 #include "BenchSceneLoader.h"
 #include "BenchTiming.h"
+#include "ReferenceJudge.h"
 #include "SuiteCommon.h"
 #include "Suites.h"
 #include "tracegraph/backend/Scene.h"
@@ -31,6 +32,19 @@ BenchReport runBuildSuite(const CommonOptions& common, const BuildOptions& optio
   BenchReport report = startReport("build", common);
   const std::string& caseName = options.scene;
 
+  // The structures timed below are judged afterwards on the same probe rays against the
+  // double-precision reference, so that every build time comes with its error.
+  Scene judged;
+  populateScene(scene, judged);
+  judged.commit();
+  const ReferenceIntersector reference(judged);
+  const std::vector<Ray> probes = makeProbeRays(judged.bounds(), kProbeRays, 99);
+  const std::vector<ReferenceHit> expected = referenceHits(reference, probes);
+  const auto addJudgement = [](BenchRow& row, const Judgement& j) {
+    row.extra.push_back(intField("ref_mismatches", static_cast<std::int64_t>(j.mismatches)));
+    row.extra.push_back(intField("judged", static_cast<std::int64_t>(j.rays)));
+  };
+
   progress("build: tracegraph-sah-kd");
   {
     // A fresh Scene per sample; copying the meshes into it is setup, commit() (all objects
@@ -40,7 +54,9 @@ BenchReport runBuildSuite(const CommonOptions& common, const BuildOptions& optio
       populateScene(scene, ours);
       return timeMs([&] { ours.commit(); });
     });
-    describeScene(addRow(report, caseName, "tracegraph-sah-kd", t), scene);
+    BenchRow& row = addRow(report, caseName, "tracegraph-sah-kd", t);
+    describeScene(row, scene);
+    addJudgement(row, judgeOutcomes(expected, traceOutcomes(judged, probes)));
   }
 
 #ifdef TG_HAVE_EMBREE
@@ -53,7 +69,12 @@ BenchReport runBuildSuite(const CommonOptions& common, const BuildOptions& optio
       device.check("committing the scene");
       return ms;
     });
-    addRow(report, caseName, embreeImplName(quality), t);
+    EmbreeBenchScene peer(device, scene, quality);
+    peer.commit();
+    std::vector<RayOutcome> out(probes.size());
+    peer.intersect1(probes, out);
+    addJudgement(addRow(report, caseName, embreeImplName(quality), t),
+                 judgeOutcomes(expected, out));
   }
 #endif
   return report;

@@ -2,9 +2,12 @@
 // whole animation frames of a scene -- animators, SceneGraph::sync, SceneRenderer::update and
 // render -- as a user of tg-render sees them. There is no peer: Embree traces rays but does
 // not shade or animate, and the trace suite compares the traversal alone.
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -128,6 +131,18 @@ void runMode(BenchReport& report, const SceneSource& source, const FrameSuiteOpt
   row.extra.push_back(intField("saved_refraction", perFrame(saved.refraction, samples)));
   if (*mode == RenderMode::Whitted) row.extra.push_back(intField("depth", options.depth));
   row.extra.push_back(textField("frames", joinFrames(frames)));
+  // The error of a frame: the last frame rendered again with the suite's threads and with one
+  // thread must be bit-identical (hard case 21); the count of differing beauty values is
+  // reported.
+  Frame many, one;
+  const Camera camera = renderer.camera(width, height);
+  renderer.render(camera, many);
+  tbb::task_arena single(1);
+  single.execute([&] { renderer.render(camera, one); });
+  std::int64_t differing = 0;
+  for (std::size_t i = 0; i < many.beauty.data().size(); ++i)
+    differing += std::memcmp(&many.beauty.data()[i], &one.beauty.data()[i], sizeof(float)) != 0;
+  row.extra.push_back(intField("threads_diff_values", differing));
   for (const std::string& w : renderer.warnings()) progress("warning: " + w);
 }
 

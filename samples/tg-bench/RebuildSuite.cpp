@@ -3,10 +3,12 @@
 #include <vector>
 
 #include "BenchTiming.h"
+#include "ReferenceJudge.h"
 #include "SceneGenerators.h"
 #include "SuiteCommon.h"
 #include "Suites.h"
 #include "tracegraph/backend/KdTreeAccel.h"
+#include "tracegraph/backend/Scene.h"
 
 #ifdef TG_HAVE_EMBREE
 #include "EmbreePeer.h"
@@ -46,6 +48,15 @@ BenchReport runRebuildSuite(const CommonOptions& common, const RebuildOptions& o
     row.extra.push_back(intField("leaves", static_cast<std::int64_t>(s.leaves)));
     row.extra.push_back(intField("max_depth", static_cast<std::int64_t>(s.maxDepth)));
     row.extra.push_back(intField("prim_refs", static_cast<std::int64_t>(s.primReferences)));
+    // The last frame's mesh built by the same builder, judged against the reference.
+    SceneOptions sceneOptions;
+    sceneOptions.deformingAccel = kind;
+    Scene scene(sceneOptions);
+    scene.createInstance(scene.createObject(moving, ObjectUsage::Deforming));
+    scene.commit();
+    const Judgement j = probeScene(scene);
+    row.extra.push_back(intField("ref_mismatches", static_cast<std::int64_t>(j.mismatches)));
+    row.extra.push_back(intField("judged", static_cast<std::int64_t>(j.rays)));
   }
 
 #ifdef TG_HAVE_EMBREE

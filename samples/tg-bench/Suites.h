@@ -87,4 +87,14 @@ BenchReport runLoadSuite(const CommonOptions& common, const LoadOptions& options
 BenchReport runSyncSuite(const CommonOptions& common, const SyncSuiteOptions& options);
 BenchReport runFrameSuite(const CommonOptions& common, const FrameSuiteOptions& options);
 
+/// `accuracy`: the hard cases of ../shared/docs/hard-cases.md as measurements judged by the
+/// double-precision brute-force reference. Every row carries a time (of the rays it traced) and
+/// error fields (leaks_per_1e7, ulp_max, acne_pct, mismatches, ...). The trace suite's and the
+/// BART rows' psnr_db is +inf (JSON null) when the images equal the reference's.
+struct AccuracyOptions {
+  bool quick = false;   ///< smaller meshes, fewer rays and translations
+  std::string dataDir;  ///< folder holding bart/; empty: the BART cases are skipped
+};
+BenchReport runAccuracySuite(const CommonOptions& common, const AccuracyOptions& options);
+
 }  // namespace tg::bench

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "BenchTiming.h"
+#include "ReferenceJudge.h"
 #include "SceneGenerators.h"
 #include "SuiteCommon.h"
 #include "Suites.h"
@@ -79,7 +80,13 @@ BenchReport runToplevelSuite(const CommonOptions& common, const ToplevelOptions&
         scene.setInstanceTransform(static_cast<InstanceId>(i), frame[i]);
       return scene.commit().topLevelMs;
     });
-    addTopLevelStats(addRow(report, caseName, "tracegraph-kd", t), scene.topLevel().stats());
+    BenchRow& row = addRow(report, caseName, "tracegraph-kd", t);
+    addTopLevelStats(row, scene.topLevel().stats());
+    // The last frame's two-level structure against the reference (Embree's instance scenes
+    // here are built, never traced, so they carry no such figure).
+    const Judgement j = probeScene(scene);
+    row.extra.push_back(intField("ref_mismatches", static_cast<std::int64_t>(j.mismatches)));
+    row.extra.push_back(intField("judged", static_cast<std::int64_t>(j.rays)));
   }
 
   progress("toplevel: tracegraph-kd-build");

@@ -9,6 +9,7 @@
 #include "BenchTiming.h"
 #include "HitComparison.h"
 #include "RayGenerators.h"
+#include "ReferenceJudge.h"
 #include "SuiteCommon.h"
 #include "Suites.h"
 #include "TraceParallel.h"
@@ -67,6 +68,20 @@ BenchRow& measureTrace(BenchReport& report, tbb::task_arena& arena, const std::s
   return row;
 }
 
+/// Rays of a trace judged by the brute-force reference: a fixed subsample, since the reference
+/// tests every triangle for every ray.
+constexpr std::size_t kJudgedRays = 1024;
+
+/// Every k-th answer, as subsampleRays selects rays.
+std::vector<std::uint8_t> subsampleFlags(std::span<const std::uint8_t> flags, std::size_t count) {
+  std::vector<RayOutcome> asOutcomes(flags.size());
+  for (std::size_t i = 0; i < flags.size(); ++i)
+    if (flags[i]) asOutcomes[i].prim = 0;
+  std::vector<std::uint8_t> out;
+  for (const RayOutcome& o : subsampleOutcomes(asOutcomes, count)) out.push_back(o.hit() ? 1 : 0);
+  return out;
+}
+
 [[maybe_unused]] void addMismatches(BenchRow& row, const MismatchCounts& counts, bool withPrim) {
   row.extra.push_back(intField("hit_mismatches", static_cast<std::int64_t>(counts.hitMiss)));
   if (withPrim)
@@ -105,6 +120,27 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
   }
   const std::size_t n = rays.size();
 
+  // The reference's answers for a subsample of the rays; every row is judged on them.
+  const std::vector<Ray> judged = subsampleRays(rays, kJudgedRays);
+  const ReferenceIntersector reference(scene);
+  std::vector<ReferenceHit> expected;
+  if (!shadow) arena.execute([&] { expected = referenceHits(reference, judged); });
+  const auto judgeClosest = [&](BenchRow& row, std::span<const RayOutcome> out) {
+    const std::vector<RayOutcome> sub = subsampleOutcomes(out, kJudgedRays);
+    row.extra.push_back(intField(
+        "ref_mismatches", static_cast<std::int64_t>(judgeOutcomes(expected, sub).mismatches)));
+    row.extra.push_back(intField("judged", static_cast<std::int64_t>(judged.size())));
+    // Eye-light shading of the primary hits against the reference's: an image error.
+    row.extra.push_back(realField("psnr_db", eyeLightPsnr(scene, judged, expected, sub)));
+  };
+  const auto judgeAny = [&](BenchRow& row, std::span<const std::uint8_t> occluded) {
+    Judgement j;
+    arena.execute(
+        [&] { j = judgeOcclusion(reference, judged, subsampleFlags(occluded, kJudgedRays)); });
+    row.extra.push_back(intField("ref_mismatches", static_cast<std::int64_t>(j.mismatches)));
+    row.extra.push_back(intField("judged", static_cast<std::int64_t>(j.rays)));
+  };
+
   std::vector<RayOutcome> ours(n);
   std::vector<std::uint8_t> oursOccluded(n);
   if (shadow) {
@@ -112,12 +148,14 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
                                  [&] { occludedOurs(scene, rays, oursOccluded); });
     row.extra.push_back(intField(
         "occluded", std::count(oursOccluded.begin(), oursOccluded.end(), std::uint8_t{1})));
+    judgeAny(row, oursOccluded);
   } else {
     BenchRow& row = measureTrace(report, arena, caseName, "tracegraph-kd", reps, n,
                                  [&] { traceOurs(scene, rays, ours); });
     row.extra.push_back(intField(
         "hits",
         std::count_if(ours.begin(), ours.end(), [](const RayOutcome& o) { return o.hit(); })));
+    judgeClosest(row, ours);
   }
 
 #ifdef TG_HAVE_EMBREE
@@ -131,15 +169,18 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
     BenchRow& row = measureTrace(report, arena, caseName, "embree-occluded1", reps, n,
                                  [&] { peer.occluded1(rays, occluded); });
     addMismatches(row, compareOcclusion(oursOccluded, occluded), false);
+    judgeAny(row, occluded);
   } else {
     std::vector<RayOutcome> theirs(n);
     BenchRow& row1 = measureTrace(report, arena, caseName, "embree-intersect1", reps, n,
                                   [&] { peer.intersect1(rays, theirs); });
     addMismatches(row1, compareOutcomes(ours, theirs), true);
+    judgeClosest(row1, theirs);
     std::fill(theirs.begin(), theirs.end(), RayOutcome{});
     BenchRow& row8 = measureTrace(report, arena, caseName, "embree-intersect8", reps, n,
                                   [&] { peer.intersect8(rays, options.size, theirs); });
     addMismatches(row8, compareOutcomes(ours, theirs), true);
+    judgeClosest(row8, theirs);
   }
 #endif
   return report;

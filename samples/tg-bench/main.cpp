@@ -2,7 +2,8 @@
 //
 //   tg-bench <suite> [options] [--json] [--threads N] [--reps R]
 //
-// Suites: toplevel, rebuild, build, trace, sync, frame, load (see Suites.h). stdout holds only
+// Suites: toplevel, rebuild, build, trace, sync, frame, load, accuracy (see Suites.h); `report`
+// runs them all and writes a markdown report (ReportSuite.h). stdout holds only
 // the report (a table, or with --json exactly one JSON object); progress and notes go to
 // stderr. Exit codes: 0 success, 1 bad input (e.g. a scene that cannot be loaded), 2 bad
 // command line.
@@ -15,6 +16,7 @@
 #include "BenchReport.h"
 #include "MachineInfo.h"
 #include "RayGenerators.h"
+#include "ReportSuite.h"
 #include "Suites.h"
 #include "tracegraph/backend/Error.h"
 
@@ -48,6 +50,8 @@ int main(int argc, char** argv) {
   LoadOptions load;
   SyncSuiteOptions syncOptions;
   FrameSuiteOptions frameOptions;
+  AccuracyOptions accuracy;
+  accuracy.dataDir = TG_BENCH_DATA_DIR;
 
   CLI::App* toplevelCmd =
       app.add_subcommand("toplevel", "Top-level rebuild over N moving instances of a box");
@@ -130,6 +134,29 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   addCommonOptions(*frameCmd, common);
 
+  CLI::App* accuracyCmd = app.add_subcommand(
+      "accuracy", "The hard numerical cases measured against the double-precision reference");
+  accuracyCmd->add_flag("--quick", accuracy.quick, "Small sizes (a CI smoke run)");
+  accuracyCmd->add_option("--data", accuracy.dataDir, "Folder holding bart/ (BART scenes)")
+      ->capture_default_str();
+  addCommonOptions(*accuracyCmd, common);
+
+  ReportOptions reportOptions;
+  reportOptions.dataDir = TG_BENCH_DATA_DIR;
+  reportOptions.outDir = "tg-bench-report";
+  CLI::App* reportCmd = app.add_subcommand(
+      "report",
+      "Every suite and the accuracy harness: a markdown report with plots (speed and "
+      "error side by side)");
+  reportCmd->add_flag("--quick", reportOptions.quick, "Small sizes: a few minutes, for CI");
+  reportCmd->add_option("--out", reportOptions.outDir, "Output folder")->capture_default_str();
+  reportCmd->add_option("--data", reportOptions.dataDir, "Folder holding bart/ (BART scenes)")
+      ->capture_default_str();
+  reportCmd
+      ->add_option("--threads", common.threads,
+                   "Worker threads for Tracegraph and Embree (default: hardware threads)")
+      ->check(CLI::Range(1, 4096));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -144,6 +171,7 @@ int main(int argc, char** argv) {
     // Caps every TBB parallel region in the process, Tracegraph's and Embree's alike.
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                                     static_cast<std::size_t>(common.threads));
+    if (*reportCmd) return runReport(common, reportOptions);
     BenchReport report;
     if (*toplevelCmd) {
       report = runToplevelSuite(common, toplevel);
@@ -155,6 +183,8 @@ int main(int argc, char** argv) {
       report = runSyncSuite(common, syncOptions);
     } else if (*frameCmd) {
       report = runFrameSuite(common, frameOptions);
+    } else if (*accuracyCmd) {
+      report = runAccuracySuite(common, accuracy);
     } else if (*traceCmd) {
       report = runTraceSuite(common, trace);
     } else {
