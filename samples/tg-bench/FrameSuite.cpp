@@ -53,7 +53,10 @@ std::int64_t perFrame(std::uint64_t total, int frames) {
 }
 
 void runMode(BenchReport& report, const SceneSource& source, const FrameSuiteOptions& options,
-             const std::string& modeName, int passes) {
+             const std::string& modeName, const std::string& engineName, int passes) {
+  Engine engine = Engine::Bvh;
+  if (!parseEngine(engineName, engine))
+    throw Error("frame suite: unknown engine '" + engineName + "' (bvh or kd)");
   const std::optional<RenderMode> mode = parseRenderMode(modeName);
   if (!mode || (*mode != RenderMode::OpenGL && *mode != RenderMode::Whitted))
     throw Error("frame suite: unknown mode '" + modeName + "' (opengl or whitted)");
@@ -70,11 +73,13 @@ void runMode(BenchReport& report, const SceneSource& source, const FrameSuiteOpt
   const std::string size = std::to_string(width) + "x" + std::to_string(height);
   std::string caseName = source.name + " " + size + " " + modeName;
   if (*mode == RenderMode::Whitted) caseName += " depth " + std::to_string(options.depth);
-  const std::string impl = "tracegraph-kd-" + modeName;
+  const std::string impl = "tracegraph-" + engineName + "-" + modeName;
   progress("frame: " + impl);
 
   // A graph and renderer of its own per mode, so that every mode starts from the same state.
-  SceneGraph graph;
+  SyncOptions syncOptions;
+  syncOptions.scene = sceneOptionsFor(engine);
+  SceneGraph graph(syncOptions);
   graph.setRoot(source.root);
   SceneRenderer renderer(graph, settings);
   renderer.setLook(source.look);
@@ -154,7 +159,9 @@ BenchReport runFrameSuite(const CommonOptions& common, const FrameSuiteOptions& 
   const SceneSource source = loadSceneSource(options.scene, kFps);
   for (const std::string& w : source.warnings) progress("warning: " + w);
   BenchReport report = startReport("frame", common);
-  for (const std::string& mode : options.modes) runMode(report, source, options, mode, passes);
+  for (const std::string& mode : options.modes)
+    for (const std::string& engine : options.engines)
+      runMode(report, source, options, mode, engine, passes);
   return report;
 }
 

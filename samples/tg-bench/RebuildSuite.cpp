@@ -1,5 +1,6 @@
 // The rebuild suite: a from-scratch build over a moving triangle soup, the per-frame cost of a
 // deforming object (the paper's fast kd-tree builder) against Embree's builders and refit.
+#include <memory>
 #include <vector>
 
 #include "BenchTiming.h"
@@ -32,14 +33,27 @@ BenchReport runRebuildSuite(const CommonOptions& common, const RebuildOptions& o
                      moving.positions);
   };
 
-  for (const AccelKind kind : {AccelKind::FastKdTree, AccelKind::SahKdTree}) {
-    const std::string impl = "tracegraph-" + std::string(accelKindName(kind));
+  // The deforming builders first (the fast kd-tree keeps the first row, as before), then the
+  // high-quality ones; "-refit" rows time ObjectAccel::refit of the same motion.
+  struct Variant {
+    AccelKind kind;
+    bool refit;
+  };
+  for (const Variant v : {Variant{AccelKind::FastKdTree, false}, Variant{AccelKind::BvhFast, false},
+                          Variant{AccelKind::BvhFast, true}, Variant{AccelKind::SahKdTree, false},
+                          Variant{AccelKind::Bvh, false}}) {
+    const AccelKind kind = v.kind;
+    const std::string impl =
+        "tracegraph-" + std::string(accelKindName(kind)) + (v.refit ? "-refit" : "");
     progress("rebuild: " + impl);
-    // KdTreeAccel::build is what Scene::commit() runs for a changed object: it includes
+    // ObjectAccel::build is what Scene::commit() runs for a changed object: it includes
     // gathering the triangles out of the indexed mesh.
-    KdTreeAccel accel(kind);
+    const std::unique_ptr<ObjectAccel> built = createObjectAccel(kind);
+    ObjectAccel& accel = *built;
+    if (v.refit) accel.build(base);
     const TimingSummary t = measureRepeated(reps, [&](int k) {
       moveTo(k);
+      if (v.refit) return timeMs([&] { accel.refit(moving); });
       return timeMs([&] { accel.build(moving); });
     });
     BenchRow& row = addRow(report, caseName, impl, t);
@@ -48,8 +62,10 @@ BenchReport runRebuildSuite(const CommonOptions& common, const RebuildOptions& o
     row.extra.push_back(intField("leaves", static_cast<std::int64_t>(s.leaves)));
     row.extra.push_back(intField("max_depth", static_cast<std::int64_t>(s.maxDepth)));
     row.extra.push_back(intField("prim_refs", static_cast<std::int64_t>(s.primReferences)));
+    if (v.refit) row.extra.push_back(intField("refitted", s.refitted ? 1 : 0));
     // The last frame's mesh built by the same builder, judged against the reference.
-    SceneOptions sceneOptions;
+    const bool kd = kind == AccelKind::FastKdTree || kind == AccelKind::SahKdTree;
+    SceneOptions sceneOptions = sceneOptionsFor(kd ? Engine::KdTree : Engine::Bvh);
     sceneOptions.deformingAccel = kind;
     Scene scene(sceneOptions);
     scene.createInstance(scene.createObject(moving, ObjectUsage::Deforming));

@@ -65,6 +65,7 @@ struct FrameSuiteOptions {
   std::optional<std::string> scene;  ///< scene file for loadSceneSource; none: the demo
   ImageSize size{640, 480};
   std::vector<std::string> modes = {"opengl", "whitted"};  ///< render modes, one row each
+  std::vector<std::string> engines = {"bvh", "kd"};        ///< engines, one row each per mode
   int depth = 3;   ///< Whitted bounces after the primary hit
   int frames = 5;  ///< frames spread evenly over the animation, first and last included
 };

@@ -66,11 +66,13 @@ BenchReport runToplevelSuite(const CommonOptions& common, const ToplevelOptions&
   for (int k = 0; k <= reps; ++k)
     frames.push_back(makeRandomPlacements(n, side, 1000 + static_cast<std::uint64_t>(k)));
 
-  progress("toplevel: tracegraph-kd");
-  {
+  for (const Engine engine : {Engine::KdTree, Engine::Bvh}) {
+    const std::string impl = engine == Engine::KdTree ? "tracegraph-kd" : "tracegraph-bvh";
+    progress("toplevel: " + impl);
     // Through the public API: move every instance, commit, and take the top-level part of the
-    // commit (instance records with world bounds, then Algorithm 1); no object is rebuilt.
-    Scene scene;
+    // commit (instance records with world bounds, then Algorithm 1 or the BVH build); no
+    // object is rebuilt.
+    Scene scene(sceneOptionsFor(engine));
     const ObjectId object = scene.createObject(box, ObjectUsage::Rigid);
     for (const Affine3d& m : frames[0]) scene.createInstance(object, m);
     scene.commit();
@@ -80,7 +82,7 @@ BenchReport runToplevelSuite(const CommonOptions& common, const ToplevelOptions&
         scene.setInstanceTransform(static_cast<InstanceId>(i), frame[i]);
       return scene.commit().topLevelMs;
     });
-    BenchRow& row = addRow(report, caseName, "tracegraph-kd", t);
+    BenchRow& row = addRow(report, caseName, impl, t);
     addTopLevelStats(row, scene.topLevel().stats());
     // The last frame's two-level structure against the reference (Embree's instance scenes
     // here are built, never traced, so they carry no such figure).
@@ -89,18 +91,19 @@ BenchReport runToplevelSuite(const CommonOptions& common, const ToplevelOptions&
     row.extra.push_back(intField("judged", static_cast<std::int64_t>(j.rays)));
   }
 
-  progress("toplevel: tracegraph-kd-build");
-  {
-    // Algorithm 1 alone, over records prepared outside the measurement.
+  for (const TopLevelKind kind : {TopLevelKind::KdTree, TopLevelKind::Bvh}) {
+    const std::string impl = "tracegraph-" + std::string(topLevelKindName(kind)) + "-build";
+    progress("toplevel: " + impl);
+    // The top-level builder alone, over records prepared outside the measurement.
     KdTreeAccel accel(AccelKind::SahKdTree);
     accel.build(box);
     std::vector<InstanceRecord> records;
-    TopLevelKdTree tree;
+    const std::unique_ptr<TopLevelAccel> tree = createTopLevelAccel(kind);
     const TimingSummary t = measureRepeated(reps, [&](int k) {
       fillRecords(accel, frames[static_cast<std::size_t>(k)], records);
-      return timeMs([&] { tree.build(records); });
+      return timeMs([&] { tree->build(records); });
     });
-    addTopLevelStats(addRow(report, caseName, "tracegraph-kd-build", t), tree.stats());
+    addTopLevelStats(addRow(report, caseName, impl, t), tree->stats());
   }
 
 #ifdef TG_HAVE_EMBREE

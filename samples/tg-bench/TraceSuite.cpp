@@ -101,9 +101,15 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
   tbb::task_arena arena(common.threads);
 
   progress("trace: building " + options.scene);
+  // The default (BVH) engine and the paper's kd-trees over the same instances.
   Scene scene;
+  Scene kdScene(sceneOptionsFor(Engine::KdTree));
   populateScene(bench, scene);
-  arena.execute([&] { scene.commit(); });
+  populateScene(bench, kdScene);
+  arena.execute([&] {
+    scene.commit();
+    kdScene.commit();
+  });
   const Box3f bounds = scene.bounds();
   if (bounds.empty()) throw Error("scene '" + options.scene + "' has no triangles to trace");
 
@@ -141,21 +147,33 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
     row.extra.push_back(intField("judged", static_cast<std::int64_t>(j.rays)));
   };
 
-  std::vector<RayOutcome> ours(n);
-  std::vector<std::uint8_t> oursOccluded(n);
-  if (shadow) {
-    BenchRow& row = measureTrace(report, arena, caseName, "tracegraph-kd", reps, n,
-                                 [&] { occludedOurs(scene, rays, oursOccluded); });
-    row.extra.push_back(intField(
-        "occluded", std::count(oursOccluded.begin(), oursOccluded.end(), std::uint8_t{1})));
-    judgeAny(row, oursOccluded);
-  } else {
-    BenchRow& row = measureTrace(report, arena, caseName, "tracegraph-kd", reps, n,
-                                 [&] { traceOurs(scene, rays, ours); });
-    row.extra.push_back(intField(
-        "hits",
-        std::count_if(ours.begin(), ours.end(), [](const RayOutcome& o) { return o.hit(); })));
-    judgeClosest(row, ours);
+  // `ours` holds the default engine's answers, which the peer rows are compared with.
+  std::vector<RayOutcome> ours(n), kdOutcomes(n);
+  std::vector<std::uint8_t> oursOccluded(n), kdOccluded(n);
+  struct EngineRows {
+    const char* impl;
+    const Scene* traced;
+    std::vector<RayOutcome>* outcomes;
+    std::vector<std::uint8_t>* occluded;
+  };
+  for (const EngineRows& e : {EngineRows{"tracegraph-bvh", &scene, &ours, &oursOccluded},
+                              EngineRows{"tracegraph-kd", &kdScene, &kdOutcomes, &kdOccluded}}) {
+    if (shadow) {
+      std::vector<std::uint8_t>& occ = *e.occluded;
+      BenchRow& row = measureTrace(report, arena, caseName, e.impl, reps, n,
+                                   [&] { occludedOurs(*e.traced, rays, occ); });
+      row.extra.push_back(
+          intField("occluded", std::count(occ.begin(), occ.end(), std::uint8_t{1})));
+      judgeAny(row, occ);
+    } else {
+      std::vector<RayOutcome>& out = *e.outcomes;
+      BenchRow& row = measureTrace(report, arena, caseName, e.impl, reps, n,
+                                   [&] { traceOurs(*e.traced, rays, out); });
+      row.extra.push_back(intField(
+          "hits",
+          std::count_if(out.begin(), out.end(), [](const RayOutcome& o) { return o.hit(); })));
+      judgeClosest(row, out);
+    }
   }
 
 #ifdef TG_HAVE_EMBREE

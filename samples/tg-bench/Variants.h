@@ -17,19 +17,21 @@ struct AccelVariant {
   SceneOptions options;
 };
 
-/// Every object accelerator the backend offers, the high-quality one first. Both the static and
-/// the deforming slot get the same kind, so a scene is traced by that kind alone.
+/// Every object accelerator the backend offers, the high-quality one first, each under the top
+/// level of its own engine. Both the static and the deforming slot get the same kind, so a
+/// scene is traced by that kind alone.
 inline std::vector<AccelVariant> accelVariants() {
-  const auto only = [](AccelKind kind) {
-    SceneOptions o;
+  const auto only = [](AccelKind kind, Engine engine) {
+    SceneOptions o = sceneOptionsFor(engine);
     o.staticAccel = kind;
     o.deformingAccel = kind;
     return o;
   };
-  // Further kinds (e.g. a BVH, with a BVH top level) are added here.
   return {
-      {"sah-kd", only(AccelKind::SahKdTree)},
-      {"fast-kd", only(AccelKind::FastKdTree)},
+      {"sah-kd", only(AccelKind::SahKdTree, Engine::KdTree)},
+      {"fast-kd", only(AccelKind::FastKdTree, Engine::KdTree)},
+      {"bvh", only(AccelKind::Bvh, Engine::Bvh)},
+      {"bvh-fast", only(AccelKind::BvhFast, Engine::Bvh)},
   };
 }
 

@@ -124,6 +124,9 @@ int main(int argc, char** argv) {
   std::string frameMode;
   frameCmd->add_option("--mode", frameMode, "Render mode (default: both, one row each)")
       ->check(CLI::IsMember({"opengl", "whitted"}));
+  std::string frameEngine;
+  frameCmd->add_option("--accel", frameEngine, "Engine (default: both, one row each)")
+      ->check(CLI::IsMember({"bvh", "kd"}));
   frameCmd->add_option("--depth", frameOptions.depth, "Whitted bounces after the primary hit")
       ->check(CLI::Range(0, 64))
       ->capture_default_str();
@@ -166,6 +169,7 @@ int main(int argc, char** argv) {
   parseImageSize(sizeText, trace.size);
   parseImageSize(frameSizeText, frameOptions.size);
   if (!frameMode.empty()) frameOptions.modes = {frameMode};
+  if (!frameEngine.empty()) frameOptions.engines = {frameEngine};
 
   try {
     // Caps every TBB parallel region in the process, Tracegraph's and Embree's alike.
