@@ -1,5 +1,7 @@
 #include "RayGenerators.h"
 
+#include "ToolArgs.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -9,17 +11,9 @@
 namespace tg::bench {
 
 bool parseImageSize(const std::string& text, ImageSize& size) {
-  const std::size_t x = text.find('x');
-  if (x == std::string::npos) return false;
-  const auto parse = [](const char* first, const char* last, int& value) {
-    const std::from_chars_result r = std::from_chars(first, last, value);
-    return r.ec == std::errc{} && r.ptr == last && value >= 1 && value <= 16384;
-  };
-  ImageSize parsed;
-  const char* begin = text.data();
-  if (!parse(begin, begin + x, parsed.width)) return false;
-  if (!parse(begin + x + 1, begin + text.size(), parsed.height)) return false;
-  size = parsed;
+  std::uint32_t w = 0, h = 0;
+  if (!tools::parseImageSizeArgument(text, w, h)) return false;
+  size = {static_cast<int>(w), static_cast<int>(h)};
   return true;
 }
 

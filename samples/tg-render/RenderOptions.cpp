@@ -5,25 +5,13 @@
 #include <iostream>
 #include <sstream>
 
+#include "ToolArgs.h"
+
 namespace tg::render_tool {
 namespace {
 
 bool parseSize(const std::string& text, std::uint32_t& w, std::uint32_t& h) {
-  const auto x = text.find('x');
-  if (x == std::string::npos) return false;
-  try {
-    std::size_t used = 0;
-    const unsigned long W = std::stoul(text.substr(0, x), &used);
-    if (used != x) return false;
-    const unsigned long H = std::stoul(text.substr(x + 1), &used);
-    if (used != text.size() - x - 1) return false;
-    if (W == 0 || H == 0 || W > 16384 || H > 16384) return false;
-    w = static_cast<std::uint32_t>(W);
-    h = static_cast<std::uint32_t>(H);
-    return true;
-  } catch (const std::exception&) {
-    return false;
-  }
+  return tools::parseImageSizeArgument(text, w, h);
 }
 
 bool parseRange(const std::string& text, std::pair<int, int>& range) {

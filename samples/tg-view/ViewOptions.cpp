@@ -4,24 +4,12 @@
 
 #include <iostream>
 
+#include "ToolArgs.h"
+
 namespace tg::view_tool {
 
 bool parseSize(const std::string& text, std::uint32_t& width, std::uint32_t& height) {
-  const auto x = text.find('x');
-  if (x == std::string::npos) return false;
-  try {
-    std::size_t used = 0;
-    const unsigned long w = std::stoul(text.substr(0, x), &used);
-    if (used != x) return false;
-    const unsigned long h = std::stoul(text.substr(x + 1), &used);
-    if (used != text.size() - x - 1) return false;
-    if (w == 0 || h == 0 || w > 16384 || h > 16384) return false;
-    width = static_cast<std::uint32_t>(w);
-    height = static_cast<std::uint32_t>(h);
-    return true;
-  } catch (const std::exception&) {
-    return false;
-  }
+  return tools::parseImageSizeArgument(text, width, height);
 }
 
 std::variant<ViewOptions, int> parseViewOptions(int argc, char** argv) {
