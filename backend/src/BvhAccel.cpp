@@ -2,6 +2,8 @@
 // the watertight triangle test.
 #include "BvhAccel.h"
 
+#include "PacketRays.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -183,43 +185,142 @@ void BvhAccel::finishStats() {
                  indices_.capacity() * sizeof(std::uint32_t) + prims_.capacity() * sizeof(BvhPrim);
 }
 
+bool BvhAccel::intersectLeaf(ObjectRay& ray, Hit& hit, std::uint32_t first, std::uint32_t count,
+                             TraversalContext& ctx) const {
+  bool found = false;
+  for (std::uint32_t k = first; k < first + count; ++k) {
+    ++ctx.triangleTests;
+    const TriangleVertices& tri = triangles_[k];
+    TriangleHit th;
+    if (!intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) continue;
+    const std::uint32_t prim = primIds_[k];
+    if (!hitPrecedes(th.t, ray.instanceId, prim, hit)) continue;
+    hit.t = th.t;
+    hit.u = th.u;
+    hit.v = th.v;
+    hit.primId = prim;
+    hit.instanceId = ray.instanceId;
+    hit.objectId = ray.objectId;
+    ray.tfar = th.t;
+    found = true;
+  }
+  return found;
+}
+
+bool BvhAccel::occludedLeaf(const ObjectRay& ray, std::uint32_t first, std::uint32_t count,
+                            TraversalContext& ctx) const {
+  for (std::uint32_t k = first; k < first + count; ++k) {
+    ++ctx.triangleTests;
+    const TriangleVertices& tri = triangles_[k];
+    TriangleHit th;
+    if (intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return true;
+  }
+  return false;
+}
+
 bool BvhAccel::intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const {
-  return traverseBvh4<false>(
-      nodes_, ray.wt.origin, ray.wt.direction, ray.wt.tnear, ray.tfar, ctx.nodeVisits,
-      [&](std::uint32_t first, std::uint32_t count) {
-        bool found = false;
-        for (std::uint32_t k = first; k < first + count; ++k) {
-          ++ctx.triangleTests;
-          const TriangleVertices& tri = triangles_[k];
-          TriangleHit th;
-          if (!intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) continue;
-          const std::uint32_t prim = primIds_[k];
-          if (!hitPrecedes(th.t, ray.instanceId, prim, hit)) continue;
-          hit.t = th.t;
-          hit.u = th.u;
-          hit.v = th.v;
-          hit.primId = prim;
-          hit.instanceId = ray.instanceId;
-          hit.objectId = ray.objectId;
-          ray.tfar = th.t;
-          found = true;
-        }
-        return found;
-      });
+  return traverseBvh4<false>(nodes_, ray.wt.origin, ray.wt.direction, ray.wt.tnear, ray.tfar,
+                             ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
+                               return intersectLeaf(ray, hit, first, count, ctx);
+                             });
 }
 
 bool BvhAccel::occluded(const ObjectRay& ray, TraversalContext& ctx) const {
-  return traverseBvh4<true>(
-      nodes_, ray.wt.origin, ray.wt.direction, ray.wt.tnear, ray.tfar, ctx.nodeVisits,
-      [&](std::uint32_t first, std::uint32_t count) {
-        for (std::uint32_t k = first; k < first + count; ++k) {
-          ++ctx.triangleTests;
-          const TriangleVertices& tri = triangles_[k];
-          TriangleHit th;
-          if (intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return true;
-        }
-        return false;
-      });
+  return traverseBvh4<true>(nodes_, ray.wt.origin, ray.wt.direction, ray.wt.tnear, ray.tfar,
+                            ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
+                              return occludedLeaf(ray, first, count, ctx);
+                            });
+}
+
+namespace {
+
+/// What the packet leaf callbacks need; passed through the kernel as `user`.
+struct PacketLeafContext {
+  const BvhAccel* accel;
+  ObjectRayPacket* packet;
+  Hit* hits;
+  TraversalContext* ctx;
+  unsigned changed = 0;
+};
+
+/// The any-hit counterpart of PacketLeafContext.
+struct OccludedLeafContext {
+  const BvhAccel* accel;
+  const ObjectRayPacket* packet;
+  TraversalContext* ctx;
+};
+
+unsigned intersectPacketLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
+                             PacketBoxRays& rays) {
+  auto& c = *static_cast<PacketLeafContext*>(user);
+  for (unsigned m = lanes; m != 0; m &= m - 1) {
+    const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+    ObjectRay& ray = c.packet->rays[l];
+    if (c.accel->intersectLeaf(ray, c.hits[l], first, count, *c.ctx)) {
+      rays.tfar[l] = ray.tfar;
+      c.changed |= 1u << l;
+    }
+  }
+  return 0;
+}
+
+unsigned occludedPacketLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
+                            PacketBoxRays&) {
+  const auto& c = *static_cast<const OccludedLeafContext*>(user);
+  unsigned blocked = 0;
+  for (unsigned m = lanes; m != 0; m &= m - 1) {
+    const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+    if (c.accel->occludedLeaf(c.packet->rays[l], first, count, *c.ctx)) blocked |= 1u << l;
+  }
+  return blocked;
+}
+
+/// Loads the lanes of `packet` whose direction signs match its first lane's into `rays` and
+/// returns them; the other lanes must be traced alone.
+unsigned loadObjectPacket(const ObjectRayPacket& packet, unsigned lanes, PacketBoxRays& rays) {
+  const unsigned first = static_cast<unsigned>(__builtin_ctz(lanes));
+  const unsigned signs = directionSigns(packet.rays[first].wt.direction);
+  unsigned coherent = 0;
+  for (unsigned m = lanes; m != 0; m &= m - 1) {
+    const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+    const ObjectRay& r = packet.rays[l];
+    if (directionSigns(r.wt.direction) != signs) continue;
+    setPacketLane(rays, l, r.wt.origin, r.wt.direction, r.wt.tnear, r.tfar);
+    coherent |= 1u << l;
+  }
+  setPacketRows(rays, signs);
+  fillUnusedLanes(rays, coherent, first);
+  return coherent;
+}
+
+}  // namespace
+
+unsigned BvhAccel::intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit* hits,
+                                   TraversalContext& ctx) const {
+  if (lanes == 0 || nodes_.empty()) return 0;
+  PacketBoxRays rays;
+  const unsigned coherent = loadObjectPacket(packet, lanes, rays);
+  PacketLeafContext c{this, &packet, hits, &ctx};
+  if (__builtin_popcount(coherent) >= kMinPacketLanes) {
+    activePacketKernel()(nodes_.data(), rays, coherent, false, &intersectPacketLeaf, &c,
+                         ctx.nodeVisits);
+  } else {
+    c.changed = ObjectAccel::intersectPacket(packet, coherent, hits, ctx);
+  }
+  return c.changed | ObjectAccel::intersectPacket(packet, lanes & ~coherent, hits, ctx);
+}
+
+unsigned BvhAccel::occludedPacket(const ObjectRayPacket& packet, unsigned lanes,
+                                  TraversalContext& ctx) const {
+  if (lanes == 0 || nodes_.empty()) return 0;
+  PacketBoxRays rays;
+  const unsigned coherent = loadObjectPacket(packet, lanes, rays);
+  OccludedLeafContext c{this, &packet, &ctx};
+  const unsigned blocked = __builtin_popcount(coherent) >= kMinPacketLanes
+                               ? activePacketKernel()(nodes_.data(), rays, coherent, true,
+                                                      &occludedPacketLeaf, &c, ctx.nodeVisits)
+                               : ObjectAccel::occludedPacket(packet, coherent, ctx);
+  return blocked | ObjectAccel::occludedPacket(packet, lanes & ~coherent, ctx);
 }
 
 }  // namespace tg::detail

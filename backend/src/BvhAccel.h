@@ -29,7 +29,19 @@ class BvhAccel final : public ObjectAccel {
   Box3f bounds() const override { return bounds_; }
   bool intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const override;
   bool occluded(const ObjectRay& ray, TraversalContext& ctx) const override;
+  unsigned intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit* hits,
+                           TraversalContext& ctx) const override;
+  unsigned occludedPacket(const ObjectRayPacket& packet, unsigned lanes,
+                          TraversalContext& ctx) const override;
   const BuildStats& stats() const override { return stats_; }
+
+  /// Closest-hit test of one ray against the triangles [first, first + count) of a leaf; the
+  /// leaf test of both the single-ray and the packet walk, so that both find the same hits.
+  bool intersectLeaf(ObjectRay& ray, Hit& hit, std::uint32_t first, std::uint32_t count,
+                     TraversalContext& ctx) const;
+  /// Any-hit test of one ray against a leaf's triangles.
+  bool occludedLeaf(const ObjectRay& ray, std::uint32_t first, std::uint32_t count,
+                    TraversalContext& ctx) const;
 
  private:
   /// SAH weights used for the cost figure (and by the builders): a triangle test costs about

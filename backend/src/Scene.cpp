@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -312,6 +313,11 @@ bool Scene::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const {
   if (!isTraceable(ray)) return false;
   impl_->topLevel->intersect(ray, hit, ctx);
   if (!hit.valid()) return false;
+  fillGeometricNormal(hit);
+  return true;
+}
+
+void Scene::fillGeometricNormal(Hit& hit) const {
   // Geometric normal in double: tiny triangles must not underflow to a zero normal. The inverse
   // transpose keeps it perpendicular under non-uniform scale and points it to the same side of
   // the surface after a mirroring (negative determinant) transform.
@@ -322,7 +328,51 @@ bool Scene::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const {
   const Vec3d n =
       impl_->instances[hit.instanceId].worldToObject.transformTransposed(cross(b - a, c - a));
   hit.geometricNormal = Vec3f(normalize(n));
-  return true;
+}
+
+void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalContext& ctx) const {
+  if (rays.size() != hits.size())
+    throw Error("Scene::intersect: " + std::to_string(rays.size()) + " rays but " +
+                std::to_string(hits.size()) + " hits");
+  for (std::size_t base = 0; base < rays.size(); base += kRayPacketSize) {
+    const std::size_t n = std::min<std::size_t>(kRayPacketSize, rays.size() - base);
+    const Ray* packet = rays.data() + base;
+    Hit* packetHits = hits.data() + base;
+    unsigned lanes = 0;
+    for (std::size_t l = 0; l < n; ++l) {
+      packetHits[l] = Hit{};
+      if (isTraceable(packet[l])) lanes |= 1u << l;
+    }
+    if (n < kRayPacketSize) {
+      // The packet walk reads kRayPacketSize rays; a short tail goes through a full-size copy.
+      Ray tail[kRayPacketSize];
+      Hit tailHits[kRayPacketSize];
+      std::copy(packet, packet + n, tail);
+      impl_->topLevel->intersectPacket(tail, lanes, tailHits, ctx);
+      std::copy(tailHits, tailHits + n, packetHits);
+    } else {
+      impl_->topLevel->intersectPacket(packet, lanes, packetHits, ctx);
+    }
+    for (std::size_t l = 0; l < n; ++l)
+      if (packetHits[l].valid()) fillGeometricNormal(packetHits[l]);
+  }
+}
+
+void Scene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
+                     TraversalContext& ctx) const {
+  if (rays.size() != occluded.size())
+    throw Error("Scene::occluded: " + std::to_string(rays.size()) + " rays but " +
+                std::to_string(occluded.size()) + " results");
+  for (std::size_t base = 0; base < rays.size(); base += kRayPacketSize) {
+    const std::size_t n = std::min<std::size_t>(kRayPacketSize, rays.size() - base);
+    Ray packet[kRayPacketSize];
+    std::copy(rays.data() + base, rays.data() + base + n, packet);
+    unsigned lanes = 0;
+    for (std::size_t l = 0; l < n; ++l)
+      if (isTraceable(packet[l])) lanes |= 1u << l;
+    const unsigned blocked = impl_->topLevel->occludedPacket(packet, lanes, ctx);
+    for (std::size_t l = 0; l < n; ++l) occluded[base + l] = (blocked >> l) & 1u;
+  }
 }
 
 bool Scene::occluded(const Ray& ray) const {

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "PacketRays.h"
+
 namespace tg::detail {
 
 void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
@@ -60,6 +62,99 @@ bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
                                 if (occludedInstance(instances_[refs_[k]], ray, ctx)) return true;
                               return false;
                             });
+}
+
+/// The packet walk over instances: world rays in the kernel, object packets into each instance
+/// a leaf holds (mapped lane by lane exactly as objectRayFor maps single rays).
+struct TopLevelPacketWalk {
+  const TopLevelBvh* top;
+  const Ray* rays;
+  Hit* hits;
+  TraversalContext* ctx;
+
+  static unsigned intersectLeaf(void* user, std::uint32_t first, std::uint32_t count,
+                                unsigned lanes, PacketBoxRays& boxRays) {
+    auto& w = *static_cast<TopLevelPacketWalk*>(user);
+    ObjectRayPacket packet;
+    for (std::uint32_t k = first; k < first + count; ++k) {
+      const InstanceRecord& inst = w.top->instances_[w.top->refs_[k]];
+      for (unsigned m = lanes; m != 0; m &= m - 1) {
+        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+        const Ray& ray = w.rays[l];
+        packet.rays[l] = objectRayFor(inst, ray, w.hits[l].t < ray.tfar ? w.hits[l].t : ray.tfar);
+      }
+      const unsigned changed = inst.accel->intersectPacket(packet, lanes, w.hits, *w.ctx);
+      for (unsigned m = changed; m != 0; m &= m - 1) {
+        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+        boxRays.tfar[l] = std::min(boxRays.tfar[l], w.hits[l].t);
+      }
+    }
+    return 0;
+  }
+
+  static unsigned occludedLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
+                               PacketBoxRays&) {
+    auto& w = *static_cast<TopLevelPacketWalk*>(user);
+    ObjectRayPacket packet;
+    unsigned blocked = 0;
+    for (std::uint32_t k = first; k < first + count && lanes != 0; ++k) {
+      const InstanceRecord& inst = w.top->instances_[w.top->refs_[k]];
+      for (unsigned m = lanes; m != 0; m &= m - 1) {
+        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+        packet.rays[l] = objectRayFor(inst, w.rays[l], w.rays[l].tfar);
+      }
+      const unsigned found = inst.accel->occludedPacket(packet, lanes, *w.ctx);
+      blocked |= found;
+      lanes &= ~found;
+    }
+    return blocked;
+  }
+
+  /// Loads the world rays of `lanes` whose direction signs match the first lane's.
+  unsigned load(unsigned lanes, PacketBoxRays& boxRays) const {
+    const unsigned firstLane = static_cast<unsigned>(__builtin_ctz(lanes));
+    const unsigned signs = directionSigns(rays[firstLane].direction);
+    unsigned coherent = 0;
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      const Ray& r = rays[l];
+      if (directionSigns(r.direction) != signs) continue;
+      const float tfar = hits ? std::min(r.tfar, hits[l].t) : r.tfar;
+      setPacketLane(boxRays, l, r.origin, r.direction, r.tnear, tfar);
+      coherent |= 1u << l;
+    }
+    setPacketRows(boxRays, signs);
+    fillUnusedLanes(boxRays, coherent, firstLane);
+    return coherent;
+  }
+};
+
+void TopLevelBvh::intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
+                                  TraversalContext& ctx) const {
+  if (lanes == 0 || bvh_.nodes.empty()) return;
+  TopLevelPacketWalk walk{this, rays, hits, &ctx};
+  PacketBoxRays boxRays;
+  const unsigned coherent = walk.load(lanes, boxRays);
+  if (__builtin_popcount(coherent) >= kMinPacketLanes) {
+    activePacketKernel()(bvh_.nodes.data(), boxRays, coherent, false,
+                         &TopLevelPacketWalk::intersectLeaf, &walk, ctx.nodeVisits);
+    lanes &= ~coherent;
+  }
+  TopLevelAccel::intersectPacket(rays, lanes, hits, ctx);
+}
+
+unsigned TopLevelBvh::occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const {
+  if (lanes == 0 || bvh_.nodes.empty()) return 0;
+  TopLevelPacketWalk walk{this, rays, nullptr, &ctx};
+  PacketBoxRays boxRays;
+  const unsigned coherent = walk.load(lanes, boxRays);
+  unsigned blocked = 0;
+  if (__builtin_popcount(coherent) >= kMinPacketLanes) {
+    blocked = activePacketKernel()(bvh_.nodes.data(), boxRays, coherent, true,
+                                   &TopLevelPacketWalk::occludedLeaf, &walk, ctx.nodeVisits);
+    lanes &= ~coherent;
+  }
+  return blocked | TopLevelAccel::occludedPacket(rays, lanes, ctx);
 }
 
 }  // namespace tg::detail

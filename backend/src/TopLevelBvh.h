@@ -22,9 +22,14 @@ class TopLevelBvh final : public TopLevelAccel {
   void build(std::span<const InstanceRecord> instances) override;
   bool intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const override;
   bool occluded(const Ray& ray, TraversalContext& ctx) const override;
+  void intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
+                       TraversalContext& ctx) const override;
+  unsigned occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const override;
   const TopLevelStats& stats() const override { return stats_; }
 
  private:
+  friend struct TopLevelPacketWalk;
+
   std::span<const InstanceRecord> instances_;
   BvhBuildResult bvh_;
   std::vector<std::uint32_t> refs_;  ///< instance indices in leaf order

@@ -27,9 +27,9 @@ std::string_view accelKindName(AccelKind kind);
 
 /// What a build produced, for statistics and benchmarks.
 struct BuildStats {
-  std::size_t triangles = 0;    ///< triangles in the mesh
-  std::size_t degenerate = 0;   ///< zero-area triangles left out of the tree (never hit)
-  std::size_t nodes = 0;        ///< inner nodes + leaves
+  std::size_t triangles = 0;   ///< triangles in the mesh
+  std::size_t degenerate = 0;  ///< zero-area triangles left out of the tree (never hit)
+  std::size_t nodes = 0;       ///< inner nodes + leaves
   /// Leaves, empty ones included.
   std::size_t leaves = 0;
   /// Leaves without references.
@@ -37,7 +37,7 @@ struct BuildStats {
   std::size_t primReferences = 0;  ///< triangle references in leaves (>= triangles with splits)
   /// Depth of the deepest leaf (root: 0).
   std::size_t maxDepth = 0;
-  std::size_t bytes = 0;        ///< memory held by the accelerator (nodes, refs, triangle copy)
+  std::size_t bytes = 0;  ///< memory held by the accelerator (nodes, refs, triangle copy)
   /// Wall time of the build (or of the refit, when `refitted`).
   double buildMs = 0.0;
   /// True when the last update refitted the boxes of the existing tree instead of rebuilding.
@@ -77,7 +77,7 @@ struct Mailbox {
 
 /// A ray in an object's space, with its per-ray constants. `tfar` shrinks as hits are found.
 struct ObjectRay {
-  WatertightRay wt;      ///< origin, direction, tnear and shear constants
+  WatertightRay wt;        ///< origin, direction, tnear and shear constants
   Vec3f inverseDirection;  ///< 1/direction per component (+-inf for +-0 components)
   /// Largest t that counts; lowered to each closer hit.
   float tfar = kInfinity;
@@ -105,10 +105,20 @@ struct ObjectRay {
         objectId(object) {}
 };
 
+/// Rays per packet in the packet queries (ObjectAccel::intersectPacket, TopLevelAccel and the
+/// Scene's queries over spans of rays); lane i of a packet is bit i of a lane mask.
+inline constexpr unsigned kRayPacketSize = 8;
+
+/// Up to kRayPacketSize object-space rays traced together; a lane mask says which are live.
+struct ObjectRayPacket {
+  /// One ray per lane.
+  ObjectRay rays[kRayPacketSize];
+};
+
 /// Per-query scratch state owned by the thread that traces the ray.
 struct TraversalContext {
-  Mailbox mailbox;          ///< triangles tested in the current object
-  Mailbox instanceMailbox;  ///< instances tested by the top level for this ray
+  Mailbox mailbox;                  ///< triangles tested in the current object
+  Mailbox instanceMailbox;          ///< instances tested by the top level for this ray
   std::uint64_t triangleTests = 0;  ///< statistics: watertight tests performed
   std::uint64_t nodeVisits = 0;     ///< statistics: accelerator nodes visited
 };
@@ -143,6 +153,15 @@ class ObjectAccel {
   virtual bool intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const = 0;
   /// Any hit in [tnear, tfar].
   virtual bool occluded(const ObjectRay& ray, TraversalContext& ctx) const = 0;
+  /// Closest hits of the lanes in `lanes`: for each lane i, exactly what
+  /// intersect(packet.rays[i], hits[i], ctx) gives. Returns the lanes whose hit changed.
+  /// Accelerators with a packet walk trace lanes whose direction signs agree together and the
+  /// others one by one; the default traces every lane alone.
+  virtual unsigned intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit* hits,
+                                   TraversalContext& ctx) const;
+  /// Any-hit counterpart of intersectPacket: returns the lanes that are occluded.
+  virtual unsigned occludedPacket(const ObjectRayPacket& packet, unsigned lanes,
+                                  TraversalContext& ctx) const;
   /// What the last build produced.
   virtual const BuildStats& stats() const = 0;
 };

@@ -131,6 +131,18 @@ class Scene {
   /// Any hit, with caller-owned scratch state and statistics.
   bool occluded(const Ray& ray, TraversalContext& ctx) const;
 
+  /// Closest hits of a stream of rays: hits[i] is bit for bit what intersect(rays[i], hits[i],
+  /// ctx) gives. Consecutive groups of kRayPacketSize rays are traced as packets (one walk
+  /// for all lanes, the box tests of all lanes in one SIMD instruction, see Simd.h); rays whose
+  /// direction signs differ from the group's, and groups with too few such rays, fall back to
+  /// single rays. Coherent streams (a camera tile, shadow rays towards one light) gain most.
+  /// Throws tg::Error when the spans differ in size.
+  void intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalContext& ctx) const;
+  /// Any hit for a stream of rays: occluded[i] is 1 when occluded(rays[i]) is true, else 0.
+  /// Packets as for intersect over spans. Throws tg::Error when the spans differ in size.
+  void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
+                TraversalContext& ctx) const;
+
   /// World bounds of the committed scene.
   Box3f bounds() const;
   /// Live objects.
@@ -158,6 +170,9 @@ class Scene {
   SurfaceData surfaceAt(const Ray& ray, const Hit& hit) const;
 
  private:
+  /// Fills hit.geometricNormal of a hit found in the committed scene.
+  void fillGeometricNormal(Hit& hit) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

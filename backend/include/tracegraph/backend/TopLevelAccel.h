@@ -69,6 +69,12 @@ class TopLevelAccel {
   virtual bool intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const = 0;
   /// Any hit of a world ray in [tnear, tfar].
   virtual bool occluded(const Ray& ray, TraversalContext& ctx) const = 0;
+  /// Closest hits of the lanes in `lanes` of `rays` (kRayPacketSize entries): for each lane i,
+  /// exactly what intersect(rays[i], hits[i], ctx) gives. The default traces lane by lane.
+  virtual void intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
+                               TraversalContext& ctx) const;
+  /// Any-hit counterpart of intersectPacket: returns the lanes that are occluded.
+  virtual unsigned occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const;
   /// Statistics of the last build.
   virtual const TopLevelStats& stats() const = 0;
 };

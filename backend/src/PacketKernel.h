@@ -1,0 +1,66 @@
+// The packet traversal kernel of the BVH4 (object and top level): its ray layout, its leaf
+// callback and one entry point per instruction set. Internal header: not installed.
+//
+// The kernel translation units are compiled with their own instruction-set flags. They must not
+// emit out-of-line copies of inline functions shared with the rest of the library (the linker
+// could keep an AVX copy for baseline callers), so this header holds only plain data and
+// function-pointer types, and the kernels call back into baseline code for triangle tests.
+#pragma once
+
+#include <cstdint>
+
+#include "Bvh4.h"
+
+namespace tg::detail {
+
+/// Rays per packet.
+inline constexpr unsigned kPacketLanes = 8;
+/// Mask with every lane set.
+inline constexpr unsigned kAllLanes = (1u << kPacketLanes) - 1u;
+
+/// A packet of up to kPacketLanes rays in structure-of-arrays layout, as the node test reads
+/// them. All lanes share the signs of their direction components (nearRow/farRow), which is
+/// what lets one box plane serve as entry plane for every lane.
+struct alignas(64) PacketBoxRays {
+  /// Origin per axis and lane.
+  float origin[3][kPacketLanes];
+  /// 1/direction per axis and lane; +inf for a zero (+0 or -0) component, as in Bvh4Ray.
+  float reciprocal[3][kPacketLanes];
+  /// Smallest t per lane.
+  float tnear[kPacketLanes];
+  /// Largest t per lane; leaf callbacks lower it as they find closer hits.
+  float tfar[kPacketLanes];
+  /// Bvh4Node::bounds row of the plane entered first per axis (shared by the lanes).
+  int nearRow[3];
+  /// Row of the plane left last per axis.
+  int farRow[3];
+};
+
+/// Tests primitives [first, first + count) of a leaf against the lanes in `lanes`. Closest-hit
+/// callbacks lower rays.tfar of the lanes that found a closer hit; any-hit callbacks return the
+/// lanes that hit something (the kernel stops tracing them).
+using PacketLeafFn = unsigned (*)(void* user, std::uint32_t first, std::uint32_t count,
+                                  unsigned lanes, PacketBoxRays& rays);
+
+/// Walks a BVH4 (root at nodes[0], at least one node) with the lanes in `lanes`. Closest hit
+/// (anyHit false): returns 0; the answer is what the leaf callbacks recorded. Any hit: returns
+/// the lanes found occluded. Every lane visits exactly the leaves whose widened box interval
+/// meets [tnear, tfar] at the time, with the single-ray box test's arithmetic, so a lane finds
+/// what the single-ray walk finds.
+using PacketTraverseFn = unsigned (*)(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes,
+                                      bool anyHit, PacketLeafFn leaf, void* user,
+                                      std::uint64_t& nodeVisits);
+
+/// The portable kernel (SSE on x86-64).
+unsigned traversePacketPortable(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes,
+                                bool anyHit, PacketLeafFn leaf, void* user,
+                                std::uint64_t& nodeVisits);
+/// The AVX2 kernel; null when the build has none (see packetKernelAvx2).
+PacketTraverseFn packetKernelAvx2();
+/// The AVX-512 kernel; null when the build has none.
+PacketTraverseFn packetKernelAvx512();
+
+/// The kernel of the active instruction set (tg::activeSimdIsa).
+PacketTraverseFn activePacketKernel();
+
+}  // namespace tg::detail

@@ -1,0 +1,58 @@
+// Filling a PacketBoxRays from rays, on the baseline side of the packet kernels. Internal
+// header: not installed, and never included by the kernel translation units.
+#pragma once
+
+#include <limits>
+
+#include "PacketKernel.h"
+#include "tracegraph/backend/Vec3.h"
+
+namespace tg::detail {
+
+/// Bit a set when direction[a] < 0. Zero components (+0 and -0) count as positive, as in
+/// Bvh4Ray, whose reciprocal of a zero is +inf.
+inline unsigned directionSigns(const Vec3f& direction) {
+  return (direction.x < 0.0f ? 1u : 0u) | (direction.y < 0.0f ? 2u : 0u) |
+         (direction.z < 0.0f ? 4u : 0u);
+}
+
+/// Writes lane `lane` with the per-ray constants Bvh4Ray computes for the same ray.
+inline void setPacketLane(PacketBoxRays& rays, unsigned lane, const Vec3f& origin,
+                          const Vec3f& direction, float tnear, float tfar) {
+  for (int a = 0; a < 3; ++a) {
+    rays.origin[a][lane] = origin[a];
+    rays.reciprocal[a][lane] =
+        direction[a] == 0.0f ? std::numeric_limits<float>::infinity() : 1.0f / direction[a];
+  }
+  rays.tnear[lane] = tnear;
+  rays.tfar[lane] = tfar;
+}
+
+/// Sets the shared plane rows for direction signs `signs` (see directionSigns).
+inline void setPacketRows(PacketBoxRays& rays, unsigned signs) {
+  for (int a = 0; a < 3; ++a) {
+    const bool negative = (signs >> a) & 1u;
+    rays.nearRow[a] = 2 * a + (negative ? 1 : 0);
+    rays.farRow[a] = 2 * a + (negative ? 0 : 1);
+  }
+}
+
+/// Copies lane `from` into every lane outside `lanes`, so that the kernel's full-width
+/// arithmetic on unused lanes sees ordinary numbers (their results are masked off).
+inline void fillUnusedLanes(PacketBoxRays& rays, unsigned lanes, unsigned from) {
+  for (unsigned l = 0; l < kPacketLanes; ++l) {
+    if (lanes & (1u << l)) continue;
+    for (int a = 0; a < 3; ++a) {
+      rays.origin[a][l] = rays.origin[a][from];
+      rays.reciprocal[a][l] = rays.reciprocal[a][from];
+    }
+    rays.tnear[l] = rays.tnear[from];
+    rays.tfar[l] = rays.tfar[from];
+  }
+}
+
+/// Packets with fewer coherent lanes than this are traced as single rays: the shared walk
+/// costs more than it saves for one or two rays.
+inline constexpr int kMinPacketLanes = 3;
+
+}  // namespace tg::detail

@@ -1,0 +1,62 @@
+// The AVX2 packet kernel: one instruction tests a child box against all eight lanes. Compiled
+// with -mavx2 -mfma -ffp-contract=off (see backend/CMakeLists.txt): contraction would fuse the
+// slab products into FMAs and round differently from the single-ray test.
+#include "PacketTraversalImpl.h"
+
+#if defined(__AVX2__)
+#include <immintrin.h>
+
+namespace tg::detail {
+namespace {
+
+struct Avx2NodeTest {
+  static void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
+                   float entry[4][kPacketLanes]) {
+    const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
+    const __m256 slack = _mm256_set1_ps(kBvhIntervalSlack);
+    const __m256 tnear = _mm256_load_ps(rays.tnear), tfar = _mm256_load_ps(rays.tfar);
+    __m256 origin[3], reciprocal[3];
+    for (int a = 0; a < 3; ++a) {
+      origin[a] = _mm256_load_ps(rays.origin[a]);
+      reciprocal[a] = _mm256_load_ps(rays.reciprocal[a]);
+    }
+    for (int s = 0; s < 4; ++s) {
+      __m256 tmin = tnear, tmax = tfar;
+      for (int a = 0; a < 3; ++a) {
+        const __m256 n =
+            _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(node.bounds[rays.nearRow[a]][s]), origin[a]),
+                          reciprocal[a]);
+        const __m256 f =
+            _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(node.bounds[rays.farRow[a]][s]), origin[a]),
+                          reciprocal[a]);
+        tmin = _mm256_max_ps(n, tmin);
+        tmax = _mm256_min_ps(f, tmax);
+      }
+      tmin = _mm256_sub_ps(tmin, _mm256_mul_ps(_mm256_and_ps(tmin, absMask), slack));
+      tmax = _mm256_add_ps(tmax, _mm256_mul_ps(_mm256_and_ps(tmax, absMask), slack));
+      _mm256_store_ps(entry[s], tmin);
+      hit[s] =
+          static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OS))) & lanes;
+    }
+  }
+};
+
+unsigned traverseAvx2(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
+                      PacketLeafFn leaf, void* user, std::uint64_t& nodeVisits) {
+  return traversePacket<Avx2NodeTest>(nodes, rays, lanes, anyHit, leaf, user, nodeVisits);
+}
+
+}  // namespace
+
+PacketTraverseFn packetKernelAvx2() {
+  return &traverseAvx2;
+}
+
+}  // namespace tg::detail
+#else
+namespace tg::detail {
+PacketTraverseFn packetKernelAvx2() {
+  return nullptr;
+}
+}  // namespace tg::detail
+#endif

@@ -1,0 +1,83 @@
+// The AVX-512 packet kernel: one instruction tests two child boxes against all eight lanes
+// (low half: slot s, high half: slot s + 1). Compiled with -mavx512f -ffp-contract=off (see
+// backend/CMakeLists.txt and PacketTraversalAvx2.cpp for why contraction is off).
+#include "PacketTraversalImpl.h"
+
+#if defined(__AVX512F__)
+// GCC 12's AVX-512 intrinsics trip -Wmaybe-uninitialized on their own internal placeholder
+// operands once inlined (GCC bug 105593, fixed in GCC 13); the warning says nothing about
+// this file's code.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+#include <immintrin.h>
+
+namespace tg::detail {
+namespace {
+
+/// The eight lanes of `p` in both halves of a 16-float register.
+inline __m512 duplicateLanes(const float* p) {
+  const __m512i index = _mm512_set_epi32(7, 6, 5, 4, 3, 2, 1, 0, 7, 6, 5, 4, 3, 2, 1, 0);
+  return _mm512_permutexvar_ps(index, _mm512_zextps256_ps512(_mm256_load_ps(p)));
+}
+
+/// Plane value of slot s in the low half, of slot s + 1 in the high half.
+inline __m512 slotPair(const float* row, int s) {
+  return _mm512_mask_blend_ps(0xFF00, _mm512_set1_ps(row[s]), _mm512_set1_ps(row[s + 1]));
+}
+
+struct Avx512NodeTest {
+  static void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
+                   float entry[4][kPacketLanes]) {
+    const __m512i absMask = _mm512_set1_epi32(0x7FFFFFFF);
+    const __m512 slack = _mm512_set1_ps(kBvhIntervalSlack);
+    const __m512 tnear = duplicateLanes(rays.tnear), tfar = duplicateLanes(rays.tfar);
+    __m512 origin[3], reciprocal[3];
+    for (int a = 0; a < 3; ++a) {
+      origin[a] = duplicateLanes(rays.origin[a]);
+      reciprocal[a] = duplicateLanes(rays.reciprocal[a]);
+    }
+    for (int s = 0; s < 4; s += 2) {
+      __m512 tmin = tnear, tmax = tfar;
+      for (int a = 0; a < 3; ++a) {
+        const __m512 n = _mm512_mul_ps(
+            _mm512_sub_ps(slotPair(node.bounds[rays.nearRow[a]], s), origin[a]), reciprocal[a]);
+        const __m512 f = _mm512_mul_ps(
+            _mm512_sub_ps(slotPair(node.bounds[rays.farRow[a]], s), origin[a]), reciprocal[a]);
+        tmin = _mm512_max_ps(n, tmin);
+        tmax = _mm512_min_ps(f, tmax);
+      }
+      const __m512 absMin =
+          _mm512_castsi512_ps(_mm512_and_epi32(_mm512_castps_si512(tmin), absMask));
+      const __m512 absMax =
+          _mm512_castsi512_ps(_mm512_and_epi32(_mm512_castps_si512(tmax), absMask));
+      tmin = _mm512_sub_ps(tmin, _mm512_mul_ps(absMin, slack));
+      tmax = _mm512_add_ps(tmax, _mm512_mul_ps(absMax, slack));
+      // entry[s] and entry[s + 1] are adjacent: one store fills both.
+      _mm512_store_ps(entry[s], tmin);
+      const unsigned mask = _mm512_cmp_ps_mask(tmin, tmax, _CMP_LE_OS);
+      hit[s] = mask & lanes;
+      hit[s + 1] = (mask >> 8) & lanes;
+    }
+  }
+};
+
+unsigned traverseAvx512(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
+                        PacketLeafFn leaf, void* user, std::uint64_t& nodeVisits) {
+  return traversePacket<Avx512NodeTest>(nodes, rays, lanes, anyHit, leaf, user, nodeVisits);
+}
+
+}  // namespace
+
+PacketTraverseFn packetKernelAvx512() {
+  return &traverseAvx512;
+}
+
+}  // namespace tg::detail
+#else
+namespace tg::detail {
+PacketTraverseFn packetKernelAvx512() {
+  return nullptr;
+}
+}  // namespace tg::detail
+#endif

@@ -1,0 +1,105 @@
+// The packet walk over a BVH4, written once and compiled per instruction set: each kernel
+// translation unit includes this file after defining its node test. Everything here has
+// internal linkage (see PacketKernel.h for why). Internal header: not installed.
+//
+// NodeTest::test(node, rays, lanes, hit, entry) tests the four child boxes of `node` against
+// the lanes in `lanes` and writes, per slot, the lanes that hit it (hit[s]) and each lane's
+// widened entry distance (entry[s][lane]), with exactly the arithmetic of intersectBvh4Node.
+#pragma once
+
+#include "PacketKernel.h"
+
+namespace tg::detail {
+namespace {
+
+/// Index of the lowest set bit of a non-zero mask.
+inline unsigned lowestLane(unsigned mask) {
+  return static_cast<unsigned>(__builtin_ctz(mask));
+}
+
+/// The walk: front to back over the packet's combined order (each subtree is entered at the
+/// smallest entry distance of its lanes), with each lane leaving a subtree whose entry lies
+/// beyond its own closest hit, as the single-ray walk does.
+template <class NodeTest>
+unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
+                        PacketLeafFn leaf, void* user, std::uint64_t& nodeVisits) {
+  struct Entry {
+    std::uint32_t child, count;
+    unsigned lanes;
+    float entry[kPacketLanes];
+  };
+  Entry stack[3 * kBvh4MaxDepth + 4];
+  int stackSize = 0;
+  unsigned active = lanes, occluded = 0;
+  std::uint32_t child = 0, count = 0;
+  unsigned current = lanes;
+  for (;;) {
+    if (count == 0) {
+      ++nodeVisits;
+      const Bvh4Node& node = nodes[child];
+      unsigned hit[4];
+      alignas(64) float entry[4][kPacketLanes];
+      NodeTest::test(node, rays, current, hit, entry);
+      int order[4];
+      float key[4];
+      int n = 0;
+      for (int s = 0; s < 4; ++s) {
+        if (hit[s] == 0) continue;
+        float k = entry[s][lowestLane(hit[s])];
+        for (unsigned m = hit[s]; m != 0; m &= m - 1) {
+          const float e = entry[s][lowestLane(m)];
+          k = e < k ? e : k;
+        }
+        int j = n++;
+        if (!anyHit) {
+          for (; j > 0 && key[j - 1] > k; --j) {
+            key[j] = key[j - 1];
+            order[j] = order[j - 1];
+          }
+        }
+        key[j] = k;
+        order[j] = s;
+      }
+      if (n > 0) {
+        for (int j = n - 1; j > 0; --j) {
+          const int s = order[j];
+          Entry& e = stack[stackSize++];
+          e.child = node.child[s];
+          e.count = node.count[s];
+          e.lanes = hit[s];
+          for (unsigned l = 0; l < kPacketLanes; ++l) e.entry[l] = entry[s][l];
+        }
+        child = node.child[order[0]];
+        count = node.count[order[0]];
+        current = hit[order[0]];
+        continue;
+      }
+    } else {
+      const unsigned found = leaf(user, child, count, current, rays);
+      if (anyHit && found != 0) {
+        occluded |= found;
+        active &= ~found;
+        if (active == 0) return occluded;
+      }
+    }
+    // Pop the next subtree some lane still needs.
+    for (;;) {
+      if (stackSize == 0) return occluded;
+      const Entry& e = stack[--stackSize];
+      unsigned need = e.lanes & active;
+      for (unsigned m = need; m != 0; m &= m - 1) {
+        const unsigned l = lowestLane(m);
+        if (e.entry[l] > rays.tfar[l]) need &= ~(1u << l);
+      }
+      if (need != 0) {
+        child = e.child;
+        count = e.count;
+        current = need;
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tg::detail

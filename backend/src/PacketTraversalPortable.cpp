@@ -1,0 +1,71 @@
+// The portable packet kernel: SSE (the x86-64 baseline) tests one child box against four lanes
+// per instruction; other targets use plain C++ with the same arithmetic.
+#include "PacketTraversalImpl.h"
+
+#if TG_BVH4_SSE
+#include <emmintrin.h>
+#endif
+
+namespace tg::detail {
+namespace {
+
+struct PortableNodeTest {
+  static void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
+                   float entry[4][kPacketLanes]) {
+#if TG_BVH4_SSE
+    const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
+    const __m128 slack = _mm_set1_ps(kBvhIntervalSlack);
+    for (int s = 0; s < 4; ++s) {
+      unsigned mask = 0;
+      for (unsigned h = 0; h < kPacketLanes; h += 4) {
+        __m128 tmin = _mm_load_ps(rays.tnear + h), tmax = _mm_load_ps(rays.tfar + h);
+        for (int a = 0; a < 3; ++a) {
+          const __m128 o = _mm_load_ps(rays.origin[a] + h);
+          const __m128 r = _mm_load_ps(rays.reciprocal[a] + h);
+          const __m128 n =
+              _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(node.bounds[rays.nearRow[a]][s]), o), r);
+          const __m128 f =
+              _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(node.bounds[rays.farRow[a]][s]), o), r);
+          tmin = _mm_max_ps(n, tmin);
+          tmax = _mm_min_ps(f, tmax);
+        }
+        tmin = _mm_sub_ps(tmin, _mm_mul_ps(_mm_and_ps(tmin, absMask), slack));
+        tmax = _mm_add_ps(tmax, _mm_mul_ps(_mm_and_ps(tmax, absMask), slack));
+        _mm_store_ps(entry[s] + h, tmin);
+        mask |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(tmin, tmax))) << h;
+      }
+      hit[s] = mask & lanes;
+    }
+#else
+    for (int s = 0; s < 4; ++s) {
+      unsigned mask = 0;
+      for (unsigned l = 0; l < kPacketLanes; ++l) {
+        float tmin = rays.tnear[l], tmax = rays.tfar[l];
+        for (int a = 0; a < 3; ++a) {
+          const float n =
+              (node.bounds[rays.nearRow[a]][s] - rays.origin[a][l]) * rays.reciprocal[a][l];
+          const float f =
+              (node.bounds[rays.farRow[a]][s] - rays.origin[a][l]) * rays.reciprocal[a][l];
+          tmin = n > tmin ? n : tmin;
+          tmax = f < tmax ? f : tmax;
+        }
+        tmin -= (tmin < 0.0f ? -tmin : tmin) * kBvhIntervalSlack;
+        tmax += (tmax < 0.0f ? -tmax : tmax) * kBvhIntervalSlack;
+        entry[s][l] = tmin;
+        if (tmin <= tmax) mask |= 1u << l;
+      }
+      hit[s] = mask & lanes;
+    }
+#endif
+  }
+};
+
+}  // namespace
+
+unsigned traversePacketPortable(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes,
+                                bool anyHit, PacketLeafFn leaf, void* user,
+                                std::uint64_t& nodeVisits) {
+  return traversePacket<PortableNodeTest>(nodes, rays, lanes, anyHit, leaf, user, nodeVisits);
+}
+
+}  // namespace tg::detail
