@@ -1,5 +1,7 @@
 // The trace suite: ray throughput of closest-hit (primary) and any-hit (shadow) queries on the
 // same rays for every implementation, with a hit-by-hit comparison as an accuracy check.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -15,6 +17,7 @@
 #include "TraceParallel.h"
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/backend/Scene.h"
+#include "tracegraph/backend/Simd.h"
 
 #ifdef TG_HAVE_EMBREE
 #include "EmbreePeer.h"
@@ -39,6 +42,60 @@ void occludedOurs(const Scene& scene, std::span<const Ray> rays, std::span<std::
     TraversalContext ctx;
     for (std::size_t i = begin; i < end; ++i) out[i] = scene.occluded(rays[i], ctx) ? 1 : 0;
   });
+}
+
+/// Rays per packet task: 32 packets of 8.
+constexpr std::size_t kPacketRaysPerTask = 32 * kRayPacketSize;
+
+/// Closest hits through the packet interface (Scene::intersect over spans): `stream` holds the
+/// rays in packet order, out[order[k]] receives the answer of stream[k].
+void tracePacketsOurs(const Scene& scene, std::span<const Ray> stream,
+                      std::span<const std::uint32_t> order, std::span<RayOutcome> out) {
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(
+          0, (stream.size() + kPacketRaysPerTask - 1) / kPacketRaysPerTask),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        TraversalContext ctx;
+        Hit hits[kPacketRaysPerTask];
+        for (std::size_t task = r.begin(); task != r.end(); ++task) {
+          const std::size_t begin = task * kPacketRaysPerTask;
+          const std::size_t count = std::min(kPacketRaysPerTask, stream.size() - begin);
+          scene.intersect(stream.subspan(begin, count), std::span<Hit>(hits, count), ctx);
+          for (std::size_t k = 0; k < count; ++k)
+            out[order[begin + k]] = {hits[k].instanceId, hits[k].primId};
+        }
+      });
+}
+
+/// Any hit through the packet interface, rays in their given order (consecutive shadow rays
+/// leave neighbouring pixels, so each group of eight is coherent).
+void occludedPacketsOurs(const Scene& scene, std::span<const Ray> rays,
+                         std::span<std::uint8_t> out) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(
+                        0, (rays.size() + kPacketRaysPerTask - 1) / kPacketRaysPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      TraversalContext ctx;
+                      for (std::size_t task = r.begin(); task != r.end(); ++task) {
+                        const std::size_t begin = task * kPacketRaysPerTask;
+                        const std::size_t count = std::min(kPacketRaysPerTask, rays.size() - begin);
+                        scene.occluded(rays.subspan(begin, count), out.subspan(begin, count), ctx);
+                      }
+                    });
+}
+
+/// Pixel indices in the order embree-intersect8 packs its packets: 4 x 2 blocks, row of blocks
+/// by row of blocks; pixels outside the image are left out.
+std::vector<std::uint32_t> blockOrder(ImageSize size) {
+  std::vector<std::uint32_t> order;
+  order.reserve(size.pixels());
+  for (int y0 = 0; y0 < size.height; y0 += 2)
+    for (int x0 = 0; x0 < size.width; x0 += 4)
+      for (int lane = 0; lane < 8; ++lane) {
+        const int x = x0 + lane % 4, y = y0 + lane / 4;
+        if (x < size.width && y < size.height)
+          order.push_back(static_cast<std::uint32_t>(y * size.width + x));
+      }
+  return order;
 }
 
 /// Primary hits (distance and normal) for spawning shadow rays; computed once, untimed.
@@ -172,6 +229,39 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
       row.extra.push_back(intField(
           "hits",
           std::count_if(out.begin(), out.end(), [](const RayOutcome& o) { return o.hit(); })));
+      judgeClosest(row, out);
+    }
+  }
+
+  // Packets of 8 (the BVH engine; the kd engine would trace every lane alone), rows named
+  // after the SIMD kernel in use. Their answers must equal the single-ray walk's.
+  {
+    const std::string impl = "tracegraph-bvh-packets";
+    if (shadow) {
+      std::vector<std::uint8_t> occ(n);
+      BenchRow& row = measureTrace(report, arena, caseName, impl, reps, n,
+                                   [&] { occludedPacketsOurs(scene, rays, occ); });
+      row.extra.push_back(
+          intField("occluded", std::count(occ.begin(), occ.end(), std::uint8_t{1})));
+      row.extra.push_back(
+          intField("single_ray_mismatches",
+                   static_cast<std::int64_t>(compareOcclusion(oursOccluded, occ).hitMiss)));
+      row.extra.push_back(textField("simd", std::string(simdIsaName(activeSimdIsa()))));
+      judgeAny(row, occ);
+    } else {
+      const std::vector<std::uint32_t> order = blockOrder(options.size);
+      std::vector<Ray> stream(order.size());
+      for (std::size_t k = 0; k < order.size(); ++k) stream[k] = rays[order[k]];
+      std::vector<RayOutcome> out(n);
+      BenchRow& row = measureTrace(report, arena, caseName, impl, reps, n,
+                                   [&] { tracePacketsOurs(scene, stream, order, out); });
+      row.extra.push_back(intField(
+          "hits",
+          std::count_if(out.begin(), out.end(), [](const RayOutcome& o) { return o.hit(); })));
+      const MismatchCounts m = compareOutcomes(ours, out);
+      row.extra.push_back(
+          intField("single_ray_mismatches", static_cast<std::int64_t>(m.hitMiss + m.prim)));
+      row.extra.push_back(textField("simd", std::string(simdIsaName(activeSimdIsa()))));
       judgeClosest(row, out);
     }
   }

@@ -66,9 +66,9 @@ std::string RenderScene::validate() const {
     for (std::size_t k = 0; k < ranges.size(); ++k) {
       if (k > 0 && ranges[k].primBegin < ranges[k - 1].primBegin)
         return "RenderScene: instance " + std::to_string(i) + ": material ranges not sorted";
-      std::string p = checkIndex(ranges[k].material, materials.size(),
-                                 "RenderScene: instance " + std::to_string(i) + " range " +
-                                     std::to_string(k));
+      std::string p =
+          checkIndex(ranges[k].material, materials.size(),
+                     "RenderScene: instance " + std::to_string(i) + " range " + std::to_string(k));
       if (!p.empty()) return p;
     }
   }

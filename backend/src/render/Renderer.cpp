@@ -65,21 +65,47 @@ struct TileResult {
   std::uint64_t triangleTests = 0, nodeVisits = 0;
 };
 
-/// Traces and shades every pixel of `rect`, writing only those pixels of `frame`.
-TileResult renderTile(const detail::Shader& shader, const Camera& camera, bool aovs,
-                      const TileRect& rect, Frame& frame) {
+/// Writes one pixel's sample into the frame's images.
+void storeSample(const detail::PixelSample& s, bool aovs, std::uint32_t x, std::uint32_t y,
+                 Frame& frame) {
+  frame.beauty.setRgb(x, y, s.color);
+  if (!aovs) return;
+  frame.depth.at(x, y) = s.depth;
+  frame.normal.setRgb(x, y, s.normal);
+  frame.instanceId.at(x, y) = s.instanceId;
+  frame.primId.at(x, y) = s.primId;
+}
+
+/// Traces and shades every pixel of `rect`, writing only those pixels of `frame`. With packets,
+/// primary rays go to the scene in 4 x 2 pixel blocks (neighbouring rays, coherent), and each
+/// pixel is then shaded from its hit as it would be from a single ray's.
+TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Camera& camera,
+                      const RenderSettings& settings, const TileRect& rect, Frame& frame) {
   TileResult result;
   TraversalContext ctx;
-  for (std::uint32_t y = rect.y0; y < rect.y1; ++y) {
-    for (std::uint32_t x = rect.x0; x < rect.x1; ++x) {
-      const detail::PixelSample s =
-          shader.shadePrimary(camera.primaryRay(x, y), ctx, result.counters);
-      frame.beauty.setRgb(x, y, s.color);
-      if (aovs) {
-        frame.depth.at(x, y) = s.depth;
-        frame.normal.setRgb(x, y, s.normal);
-        frame.instanceId.at(x, y) = s.instanceId;
-        frame.primId.at(x, y) = s.primId;
+  if (!settings.packets) {
+    for (std::uint32_t y = rect.y0; y < rect.y1; ++y)
+      for (std::uint32_t x = rect.x0; x < rect.x1; ++x)
+        storeSample(shader.shadePrimary(camera.primaryRay(x, y), ctx, result.counters),
+                    settings.aovs, x, y, frame);
+  } else {
+    Ray rays[kRayPacketSize];
+    Hit hits[kRayPacketSize];
+    std::uint32_t px[kRayPacketSize], py[kRayPacketSize];
+    for (std::uint32_t y0 = rect.y0; y0 < rect.y1; y0 += 2) {
+      for (std::uint32_t x0 = rect.x0; x0 < rect.x1; x0 += 4) {
+        std::size_t n = 0;
+        for (std::uint32_t lane = 0; lane < kRayPacketSize; ++lane) {
+          const std::uint32_t x = x0 + lane % 4, y = y0 + lane / 4;
+          if (x >= rect.x1 || y >= rect.y1) continue;
+          px[n] = x;
+          py[n] = y;
+          rays[n++] = camera.primaryRay(x, y);
+        }
+        scene.intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n), ctx);
+        for (std::size_t k = 0; k < n; ++k)
+          storeSample(shader.shadePrimaryHit(rays[k], hits[k], ctx, result.counters), settings.aovs,
+                      px[k], py[k], frame);
       }
     }
   }
@@ -144,7 +170,8 @@ RenderStats Renderer::render(const RenderScene& scene, const Camera& camera, Fra
                         const std::uint32_t x0 = static_cast<std::uint32_t>(tile % tilesX) * ts;
                         const std::uint32_t y0 = static_cast<std::uint32_t>(tile / tilesX) * ts;
                         const TileRect rect{x0, y0, std::min(x0 + ts, w), std::min(y0 + ts, h)};
-                        results[tile] = renderTile(shader, camera, settings_.aovs, rect, frame);
+                        results[tile] =
+                            renderTile(shader, *scene.scene, camera, settings_, rect, frame);
                       }
                     });
   const auto end = std::chrono::steady_clock::now();

@@ -36,6 +36,10 @@ class Shader {
 
   /// Traces a primary ray and shades it in the configured mode.
   PixelSample shadePrimary(const Ray& ray, TraversalContext& ctx, TileCounters& counters) const;
+  /// Shades a primary ray whose closest hit `hit` (invalid: a miss) was already traced, e.g.
+  /// in a packet.
+  PixelSample shadePrimaryHit(const Ray& ray, const Hit& hit, TraversalContext& ctx,
+                              TileCounters& counters) const;
 
  private:
   /// The light arriving along `ray` (Whitted/OpenGL), `depth` bounces after the primary hit.

@@ -105,13 +105,19 @@ Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
 
 PixelSample Shader::shadePrimary(const Ray& ray, TraversalContext& ctx,
                                  TileCounters& counters) const {
+  Hit hit;
+  scene_.intersect(ray, hit, ctx);
+  return shadePrimaryHit(ray, hit, ctx, counters);
+}
+
+PixelSample Shader::shadePrimaryHit(const Ray& ray, const Hit& hit, TraversalContext& ctx,
+                                    TileCounters& counters) const {
   PixelSample s;
   ++counters.traced.primary;
-  Hit hit;
   const bool debugMode = settings_.mode == RenderMode::Normals ||
                          settings_.mode == RenderMode::Classes ||
                          settings_.mode == RenderMode::Instances;
-  if (!scene_.intersect(ray, hit, ctx)) {
+  if (!hit.valid()) {
     s.color = debugMode ? Vec3f{} : rs_.background;
     return s;
   }

@@ -47,6 +47,9 @@ struct RenderSettings {
   /// Fresnel terms and high Phong exponents and are slow on many CPUs; flushing changes no
   /// visible colour. Every tile sets the mode itself, so images stay identical on any thread.
   bool flushDenormals = true;
+  /// Trace primary rays as packets of 4 x 2 pixels (Scene::intersect over spans). The hits,
+  /// and so the images, are identical either way; off traces every primary ray alone.
+  bool packets = true;
 };
 
 /// The images of one frame. render() (re)allocates them to the camera's size.
