@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <chrono>
 
 namespace tg::detail {
@@ -185,25 +186,33 @@ void BvhAccel::finishStats() {
                  indices_.capacity() * sizeof(std::uint32_t) + prims_.capacity() * sizeof(BvhPrim);
 }
 
+bool BvhAccel::intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) const {
+  const TriangleVertices& tri = triangles_[k];
+  TriangleHit th;
+  if (!intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return false;
+  const std::uint32_t prim = primIds_[k];
+  if (!hitPrecedes(th.t, ray.instanceId, prim, hit)) return false;
+  hit.t = th.t;
+  hit.u = th.u;
+  hit.v = th.v;
+  hit.primId = prim;
+  hit.instanceId = ray.instanceId;
+  hit.objectId = ray.objectId;
+  ray.tfar = th.t;
+  return true;
+}
+
+bool BvhAccel::occludedTriangle(const ObjectRay& ray, std::uint32_t k) const {
+  const TriangleVertices& tri = triangles_[k];
+  TriangleHit th;
+  return intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th);
+}
+
 bool BvhAccel::intersectLeaf(ObjectRay& ray, Hit& hit, std::uint32_t first, std::uint32_t count,
                              TraversalContext& ctx) const {
   bool found = false;
-  for (std::uint32_t k = first; k < first + count; ++k) {
-    ++ctx.triangleTests;
-    const TriangleVertices& tri = triangles_[k];
-    TriangleHit th;
-    if (!intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) continue;
-    const std::uint32_t prim = primIds_[k];
-    if (!hitPrecedes(th.t, ray.instanceId, prim, hit)) continue;
-    hit.t = th.t;
-    hit.u = th.u;
-    hit.v = th.v;
-    hit.primId = prim;
-    hit.instanceId = ray.instanceId;
-    hit.objectId = ray.objectId;
-    ray.tfar = th.t;
-    found = true;
-  }
+  ctx.triangleTests += count;
+  for (std::uint32_t k = first; k < first + count; ++k) found |= intersectTriangle(ray, hit, k);
   return found;
 }
 
@@ -211,11 +220,14 @@ bool BvhAccel::occludedLeaf(const ObjectRay& ray, std::uint32_t first, std::uint
                             TraversalContext& ctx) const {
   for (std::uint32_t k = first; k < first + count; ++k) {
     ++ctx.triangleTests;
-    const TriangleVertices& tri = triangles_[k];
-    TriangleHit th;
-    if (intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return true;
+    if (occludedTriangle(ray, k)) return true;
   }
   return false;
+}
+
+const float* BvhAccel::triangleFloats(std::uint32_t first) const {
+  static_assert(sizeof(TriangleVertices) == 9 * sizeof(float), "vertices must be packed floats");
+  return &triangles_[first].v0.x;
 }
 
 bool BvhAccel::intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const {
@@ -234,59 +246,116 @@ bool BvhAccel::occluded(const ObjectRay& ray, TraversalContext& ctx) const {
 
 namespace {
 
-/// What the packet leaf callbacks need; passed through the kernel as `user`.
-struct PacketLeafContext {
-  const BvhAccel* accel;
-  ObjectRayPacket* packet;
-  Hit* hits;
-  TraversalContext* ctx;
-  unsigned changed = 0;
-};
+/// Triangles whose candidates one filter call computes.
+constexpr std::uint32_t kFilterBatch = 8;
 
-/// The any-hit counterpart of PacketLeafContext.
-struct OccludedLeafContext {
+/// What the packet leaf callbacks need; passed through the kernel as `user`. Lanes in
+/// `filtered` share an axis permutation and go through the SIMD pre-filter (`triangleRays`);
+/// the others are tested lane by lane.
+struct PacketLeafContext {
   const BvhAccel* accel;
   const ObjectRayPacket* packet;
   TraversalContext* ctx;
+  PacketTriangleRays triangleRays;
+  unsigned filtered = 0;
 };
+
+/// The closest-hit callback's context.
+struct ClosestLeafContext : PacketLeafContext {
+  ObjectRayPacket* rays;
+  Hit* hits;
+  unsigned changed = 0;
+};
+
+/// Calls test(lane, k) for every (lane, triangle) pair of the leaf that may hit, in triangle
+/// order per lane, as the single-ray leaf test would meet them; test returns true to retire the
+/// lane from the rest of the leaf (any-hit).
+template <class Test>
+void forEachCandidate(const PacketLeafContext& c, std::uint32_t first, std::uint32_t count,
+                      unsigned lanes, const Test& test) {
+  const unsigned filtered = lanes & c.filtered;
+  unsigned scalar = lanes & ~c.filtered;
+  if (filtered != 0) {
+    c.ctx->triangleTests += static_cast<std::uint64_t>(__builtin_popcount(filtered)) * count;
+    unsigned live = filtered;
+    unsigned candidates[kFilterBatch];
+    for (std::uint32_t base = first; base < first + count && live != 0; base += kFilterBatch) {
+      const std::uint32_t n = std::min(kFilterBatch, first + count - base);
+      activePacketKernels().filterTriangles(c.accel->triangleFloats(base), n, c.triangleRays, live,
+                                            candidates);
+      for (std::uint32_t i = 0; i < n; ++i)
+        for (unsigned m = candidates[i] & live; m != 0; m &= m - 1) {
+          const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+          if (test(l, base + i)) live &= ~(1u << l);
+        }
+    }
+  }
+  for (; scalar != 0; scalar &= scalar - 1) {
+    const unsigned l = static_cast<unsigned>(__builtin_ctz(scalar));
+    c.ctx->triangleTests += count;
+    for (std::uint32_t k = first; k < first + count; ++k)
+      if (test(l, k)) break;
+  }
+}
 
 unsigned intersectPacketLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
                              PacketBoxRays& rays) {
-  auto& c = *static_cast<PacketLeafContext*>(user);
-  for (unsigned m = lanes; m != 0; m &= m - 1) {
-    const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-    ObjectRay& ray = c.packet->rays[l];
-    if (c.accel->intersectLeaf(ray, c.hits[l], first, count, *c.ctx)) {
+  auto& c = *static_cast<ClosestLeafContext*>(user);
+  forEachCandidate(c, first, count, lanes, [&](unsigned l, std::uint32_t k) {
+    ObjectRay& ray = c.rays->rays[l];
+    if (c.accel->intersectTriangle(ray, c.hits[l], k)) {
       rays.tfar[l] = ray.tfar;
       c.changed |= 1u << l;
     }
-  }
+    return false;
+  });
   return 0;
 }
 
 unsigned occludedPacketLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
                             PacketBoxRays&) {
-  const auto& c = *static_cast<const OccludedLeafContext*>(user);
+  const auto& c = *static_cast<const PacketLeafContext*>(user);
   unsigned blocked = 0;
-  for (unsigned m = lanes; m != 0; m &= m - 1) {
-    const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-    if (c.accel->occludedLeaf(c.packet->rays[l], first, count, *c.ctx)) blocked |= 1u << l;
-  }
+  forEachCandidate(c, first, count, lanes, [&](unsigned l, std::uint32_t k) {
+    if (!c.accel->occludedTriangle(c.packet->rays[l], k)) return false;
+    blocked |= 1u << l;
+    return true;
+  });
   return blocked;
 }
 
 /// Loads the lanes of `packet` whose direction signs match its first lane's into `rays` and
-/// returns them; the other lanes must be traced alone.
-unsigned loadObjectPacket(const ObjectRayPacket& packet, unsigned lanes, PacketBoxRays& rays) {
+/// returns them; the other lanes must be traced alone. Of those, the lanes that share the
+/// first one's axis permutation go into the triangle pre-filter's layout.
+unsigned loadObjectPacket(const ObjectRayPacket& packet, unsigned lanes, PacketBoxRays& rays,
+                          PacketLeafContext& c) {
   const unsigned first = static_cast<unsigned>(__builtin_ctz(lanes));
-  const unsigned signs = directionSigns(packet.rays[first].wt.direction);
+  const WatertightRay& lead = packet.rays[first].wt;
+  const unsigned signs = directionSigns(lead.direction);
   unsigned coherent = 0;
+  c.filtered = 0;
+  c.triangleRays.kx = lead.kx;
+  c.triangleRays.ky = lead.ky;
+  c.triangleRays.kz = lead.kz;
   for (unsigned m = lanes; m != 0; m &= m - 1) {
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
     const ObjectRay& r = packet.rays[l];
     if (directionSigns(r.wt.direction) != signs) continue;
     setPacketLane(rays, l, r.wt.origin, r.wt.direction, r.wt.tnear, r.tfar);
     coherent |= 1u << l;
+    if (r.wt.kx == lead.kx && r.wt.ky == lead.ky && r.wt.kz == lead.kz) {
+      for (int a = 0; a < 3; ++a) c.triangleRays.origin[a][l] = r.wt.origin[a];
+      c.triangleRays.sx[l] = r.wt.sx;
+      c.triangleRays.sy[l] = r.wt.sy;
+      c.filtered |= 1u << l;
+    }
+  }
+  // Lanes outside the filter still go through its full-width arithmetic: give them numbers.
+  for (unsigned l = 0; l < kPacketLanes; ++l) {
+    if (c.filtered & (1u << l)) continue;
+    for (int a = 0; a < 3; ++a) c.triangleRays.origin[a][l] = lead.origin[a];
+    c.triangleRays.sx[l] = lead.sx;
+    c.triangleRays.sy[l] = lead.sy;
   }
   setPacketRows(rays, signs);
   fillUnusedLanes(rays, coherent, first);
@@ -299,11 +368,16 @@ unsigned BvhAccel::intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit*
                                    TraversalContext& ctx) const {
   if (lanes == 0 || nodes_.empty()) return 0;
   PacketBoxRays rays;
-  const unsigned coherent = loadObjectPacket(packet, lanes, rays);
-  PacketLeafContext c{this, &packet, hits, &ctx};
+  ClosestLeafContext c;
+  c.accel = this;
+  c.packet = &packet;
+  c.ctx = &ctx;
+  c.rays = &packet;
+  c.hits = hits;
+  const unsigned coherent = loadObjectPacket(packet, lanes, rays, c);
   if (__builtin_popcount(coherent) >= kMinPacketLanes) {
-    activePacketKernel()(nodes_.data(), rays, coherent, false, &intersectPacketLeaf, &c,
-                         ctx.nodeVisits);
+    activePacketKernels().traverse(nodes_.data(), rays, coherent, false, &intersectPacketLeaf, &c,
+                                   ctx.nodeVisits);
   } else {
     c.changed = ObjectAccel::intersectPacket(packet, coherent, hits, ctx);
   }
@@ -314,12 +388,16 @@ unsigned BvhAccel::occludedPacket(const ObjectRayPacket& packet, unsigned lanes,
                                   TraversalContext& ctx) const {
   if (lanes == 0 || nodes_.empty()) return 0;
   PacketBoxRays rays;
-  const unsigned coherent = loadObjectPacket(packet, lanes, rays);
-  OccludedLeafContext c{this, &packet, &ctx};
-  const unsigned blocked = __builtin_popcount(coherent) >= kMinPacketLanes
-                               ? activePacketKernel()(nodes_.data(), rays, coherent, true,
-                                                      &occludedPacketLeaf, &c, ctx.nodeVisits)
-                               : ObjectAccel::occludedPacket(packet, coherent, ctx);
+  PacketLeafContext c;
+  c.accel = this;
+  c.packet = &packet;
+  c.ctx = &ctx;
+  const unsigned coherent = loadObjectPacket(packet, lanes, rays, c);
+  const unsigned blocked =
+      __builtin_popcount(coherent) >= kMinPacketLanes
+          ? activePacketKernels().traverse(nodes_.data(), rays, coherent, true, &occludedPacketLeaf,
+                                           &c, ctx.nodeVisits)
+          : ObjectAccel::occludedPacket(packet, coherent, ctx);
   return blocked | ObjectAccel::occludedPacket(packet, lanes & ~coherent, ctx);
 }
 

@@ -42,6 +42,12 @@ class BvhAccel final : public ObjectAccel {
   /// Any-hit test of one ray against a leaf's triangles.
   bool occludedLeaf(const ObjectRay& ray, std::uint32_t first, std::uint32_t count,
                     TraversalContext& ctx) const;
+  /// Closest-hit test of one ray against triangle `k` (leaf order): the step of intersectLeaf.
+  bool intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) const;
+  /// Any-hit test of one ray against triangle `k` (leaf order).
+  bool occludedTriangle(const ObjectRay& ray, std::uint32_t k) const;
+  /// Triangles from `first` on (leaf order) as packed floats, 9 per triangle.
+  const float* triangleFloats(std::uint32_t first) const;
 
  private:
   /// SAH weights used for the cost figure (and by the builders): a triangle test costs about

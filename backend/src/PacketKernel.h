@@ -51,16 +51,46 @@ using PacketTraverseFn = unsigned (*)(const Bvh4Node* nodes, PacketBoxRays& rays
                                       bool anyHit, PacketLeafFn leaf, void* user,
                                       std::uint64_t& nodeVisits);
 
-/// The portable kernel (SSE on x86-64).
-unsigned traversePacketPortable(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes,
-                                bool anyHit, PacketLeafFn leaf, void* user,
-                                std::uint64_t& nodeVisits);
-/// The AVX2 kernel; null when the build has none (see packetKernelAvx2).
-PacketTraverseFn packetKernelAvx2();
-/// The AVX-512 kernel; null when the build has none.
-PacketTraverseFn packetKernelAvx512();
+/// The lanes of a packet as the watertight triangle test sees them, for lanes that share the
+/// axis permutation (kx, ky, kz) of WatertightRay.
+struct alignas(64) PacketTriangleRays {
+  /// WatertightRay::origin per axis and lane.
+  float origin[3][kPacketLanes];
+  /// WatertightRay::sx per lane.
+  float sx[kPacketLanes];
+  /// WatertightRay::sy per lane.
+  float sy[kPacketLanes];
+  ///@{
+  /// The shared axis permutation.
+  int kx = 0, ky = 1, kz = 2;
+  ///@}
+};
 
-/// The kernel of the active instruction set (tg::activeSimdIsa).
-PacketTraverseFn activePacketKernel();
+/// The inside half of the watertight test (intersectWatertight) for every lane of `lanes`
+/// against `count` triangles (9 floats each: v0, v1, v2), computed with the scalar test's exact
+/// arithmetic. candidates[i] receives the lanes that may hit triangle i: those the edge
+/// functions place inside with a non-zero determinant, and those with an edge function exactly
+/// zero, which the scalar test decides in double. Only candidates need the scalar test.
+using TriangleFilterFn = void (*)(const float* vertices, std::uint32_t count,
+                                  const PacketTriangleRays& rays, unsigned lanes,
+                                  unsigned* candidates);
+
+/// The kernels of one instruction set.
+struct PacketKernels {
+  /// The BVH4 packet walk.
+  PacketTraverseFn traverse = nullptr;
+  /// The triangle pre-filter.
+  TriangleFilterFn filterTriangles = nullptr;
+};
+
+/// The portable kernels (SSE on x86-64).
+PacketKernels packetKernelsPortable();
+/// The AVX2 kernels; null members when the build has none.
+PacketKernels packetKernelsAvx2();
+/// The AVX-512 kernels; null members when the build has none.
+PacketKernels packetKernelsAvx512();
+
+/// The kernels of the active instruction set (tg::activeSimdIsa).
+const PacketKernels& activePacketKernels();
 
 }  // namespace tg::detail

@@ -1,10 +1,13 @@
 // The AVX2 packet kernel: one instruction tests a child box against all eight lanes. Compiled
 // with -mavx2 -mfma -ffp-contract=off (see backend/CMakeLists.txt): contraction would fuse the
 // slab products into FMAs and round differently from the single-ray test.
-#include "PacketTraversalImpl.h"
+#include "PacketKernel.h"
 
 #if defined(__AVX2__)
 #include <immintrin.h>
+
+#include "PacketLanesAvx.h"
+#include "PacketTraversalImpl.h"
 
 namespace tg::detail {
 namespace {
@@ -48,15 +51,15 @@ unsigned traverseAvx2(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes
 
 }  // namespace
 
-PacketTraverseFn packetKernelAvx2() {
-  return &traverseAvx2;
+PacketKernels packetKernelsAvx2() {
+  return {&traverseAvx2, &filterTrianglesWith<Lanes8>};
 }
 
 }  // namespace tg::detail
 #else
 namespace tg::detail {
-PacketTraverseFn packetKernelAvx2() {
-  return nullptr;
+PacketKernels packetKernelsAvx2() {
+  return {};
 }
 }  // namespace tg::detail
 #endif

@@ -1,7 +1,7 @@
 // The AVX-512 packet kernel: one instruction tests two child boxes against all eight lanes
 // (low half: slot s, high half: slot s + 1). Compiled with -mavx512f -ffp-contract=off (see
 // backend/CMakeLists.txt and PacketTraversalAvx2.cpp for why contraction is off).
-#include "PacketTraversalImpl.h"
+#include "PacketKernel.h"
 
 #if defined(__AVX512F__)
 // GCC 12's AVX-512 intrinsics trip -Wmaybe-uninitialized on their own internal placeholder
@@ -11,6 +11,9 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
 #include <immintrin.h>
+
+#include "PacketLanesAvx.h"
+#include "PacketTraversalImpl.h"
 
 namespace tg::detail {
 namespace {
@@ -69,15 +72,15 @@ unsigned traverseAvx512(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
 
 }  // namespace
 
-PacketTraverseFn packetKernelAvx512() {
-  return &traverseAvx512;
+PacketKernels packetKernelsAvx512() {
+  return {&traverseAvx512, &filterTrianglesWith<Lanes8>};
 }
 
 }  // namespace tg::detail
 #else
 namespace tg::detail {
-PacketTraverseFn packetKernelAvx512() {
-  return nullptr;
+PacketKernels packetKernelsAvx512() {
+  return {};
 }
 }  // namespace tg::detail
 #endif

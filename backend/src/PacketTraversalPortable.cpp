@@ -1,6 +1,7 @@
 // The portable packet kernel: SSE (the x86-64 baseline) tests one child box against four lanes
 // per instruction; other targets use plain C++ with the same arithmetic.
 #include "PacketTraversalImpl.h"
+#include "PacketTriangleFilter.h"
 
 #if TG_BVH4_SSE
 #include <emmintrin.h>
@@ -60,12 +61,60 @@ struct PortableNodeTest {
   }
 };
 
+#if TG_BVH4_SSE
+/// Four lanes in an SSE register.
+struct Lanes4 {
+  static constexpr unsigned kWidth = 4;
+  __m128 v;
+  static Lanes4 load(const float* p) { return {_mm_load_ps(p)}; }
+  static Lanes4 broadcast(float x) { return {_mm_set1_ps(x)}; }
+  friend Lanes4 operator+(Lanes4 a, Lanes4 b) { return {_mm_add_ps(a.v, b.v)}; }
+  friend Lanes4 operator-(Lanes4 a, Lanes4 b) { return {_mm_sub_ps(a.v, b.v)}; }
+  friend Lanes4 operator*(Lanes4 a, Lanes4 b) { return {_mm_mul_ps(a.v, b.v)}; }
+  static unsigned candidates(Lanes4 u, Lanes4 v, Lanes4 w) {
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 anyZero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u.v, zero), _mm_cmpeq_ps(v.v, zero)),
+                                     _mm_cmpeq_ps(w.v, zero));
+    const __m128 anyNegative = _mm_or_ps(
+        _mm_or_ps(_mm_cmplt_ps(u.v, zero), _mm_cmplt_ps(v.v, zero)), _mm_cmplt_ps(w.v, zero));
+    const __m128 anyPositive = _mm_or_ps(
+        _mm_or_ps(_mm_cmpgt_ps(u.v, zero), _mm_cmpgt_ps(v.v, zero)), _mm_cmpgt_ps(w.v, zero));
+    const __m128 det = _mm_add_ps(_mm_add_ps(u.v, v.v), w.v);
+    const __m128 inside =
+        _mm_andnot_ps(_mm_and_ps(anyNegative, anyPositive), _mm_cmpneq_ps(det, zero));
+    return static_cast<unsigned>(_mm_movemask_ps(_mm_or_ps(anyZero, inside)));
+  }
+};
+using PortableLanes = Lanes4;
+#else
+/// One lane in a float.
+struct Lanes1 {
+  static constexpr unsigned kWidth = 1;
+  float v;
+  static Lanes1 load(const float* p) { return {*p}; }
+  static Lanes1 broadcast(float x) { return {x}; }
+  friend Lanes1 operator+(Lanes1 a, Lanes1 b) { return {a.v + b.v}; }
+  friend Lanes1 operator-(Lanes1 a, Lanes1 b) { return {a.v - b.v}; }
+  friend Lanes1 operator*(Lanes1 a, Lanes1 b) { return {a.v * b.v}; }
+  static unsigned candidates(Lanes1 u, Lanes1 v, Lanes1 w) {
+    if (u.v == 0.0f || v.v == 0.0f || w.v == 0.0f) return 1;
+    const bool mixed =
+        (u.v < 0.0f || v.v < 0.0f || w.v < 0.0f) && (u.v > 0.0f || v.v > 0.0f || w.v > 0.0f);
+    return !mixed && u.v + v.v + w.v != 0.0f ? 1 : 0;
+  }
+};
+using PortableLanes = Lanes1;
+#endif
+
+unsigned traversePortable(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
+                          PacketLeafFn leaf, void* user, std::uint64_t& nodeVisits) {
+  return traversePacket<PortableNodeTest>(nodes, rays, lanes, anyHit, leaf, user, nodeVisits);
+}
+
 }  // namespace
 
-unsigned traversePacketPortable(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes,
-                                bool anyHit, PacketLeafFn leaf, void* user,
-                                std::uint64_t& nodeVisits) {
-  return traversePacket<PortableNodeTest>(nodes, rays, lanes, anyHit, leaf, user, nodeVisits);
+PacketKernels packetKernelsPortable() {
+  return {&traversePortable, &filterTrianglesWith<PortableLanes>};
 }
 
 }  // namespace tg::detail

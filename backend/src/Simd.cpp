@@ -19,14 +19,14 @@ bool cpuRuns(SimdIsa isa) {
     case SimdIsa::Avx2:
 #if defined(__x86_64__) || defined(__i386__)
       // __builtin_cpu_supports also checks that the OS saves the wide registers (XGETBV).
-      return detail::packetKernelAvx2() != nullptr && __builtin_cpu_supports("avx2") &&
+      return detail::packetKernelsAvx2().traverse != nullptr && __builtin_cpu_supports("avx2") &&
              __builtin_cpu_supports("fma");
 #else
       return false;
 #endif
     case SimdIsa::Avx512:
 #if defined(__x86_64__) || defined(__i386__)
-      return detail::packetKernelAvx512() != nullptr && __builtin_cpu_supports("avx512f");
+      return detail::packetKernelsAvx512().traverse != nullptr && __builtin_cpu_supports("avx512f");
 #else
       return false;
 #endif
@@ -34,16 +34,16 @@ bool cpuRuns(SimdIsa isa) {
   return false;
 }
 
-detail::PacketTraverseFn kernelOf(SimdIsa isa) {
+detail::PacketKernels kernelsOf(SimdIsa isa) {
   switch (isa) {
     case SimdIsa::Avx2:
-      return detail::packetKernelAvx2();
+      return detail::packetKernelsAvx2();
     case SimdIsa::Avx512:
-      return detail::packetKernelAvx512();
+      return detail::packetKernelsAvx512();
     case SimdIsa::Portable:
       break;
   }
-  return &detail::traversePacketPortable;
+  return detail::packetKernelsPortable();
 }
 
 SimdIsa initialIsa() {
@@ -55,15 +55,16 @@ SimdIsa initialIsa() {
   return isas.back();
 }
 
-/// The active choice; set on first use and by setSimdIsa.
-struct ActiveKernel {
-  std::atomic<SimdIsa> isa;
-  std::atomic<detail::PacketTraverseFn> kernel;
-  ActiveKernel() : isa(initialIsa()), kernel(kernelOf(isa.load())) {}
+/// The active choice, one slot per instruction set so that a switch never tears a pair of
+/// kernels apart; set on first use and by setSimdIsa.
+struct ActiveKernels {
+  detail::PacketKernels byIsa[3] = {kernelsOf(SimdIsa::Portable), kernelsOf(SimdIsa::Avx2),
+                                    kernelsOf(SimdIsa::Avx512)};
+  std::atomic<SimdIsa> isa{initialIsa()};
 };
 
-ActiveKernel& active() {
-  static ActiveKernel instance;
+ActiveKernels& active() {
+  static ActiveKernels instance;
   return instance;
 }
 
@@ -94,13 +95,13 @@ SimdIsa activeSimdIsa() {
 bool setSimdIsa(SimdIsa isa) {
   if (!cpuRuns(isa)) return false;
   active().isa.store(isa, std::memory_order_relaxed);
-  active().kernel.store(kernelOf(isa), std::memory_order_relaxed);
   return true;
 }
 
 namespace detail {
-PacketTraverseFn activePacketKernel() {
-  return active().kernel.load(std::memory_order_relaxed);
+const PacketKernels& activePacketKernels() {
+  ActiveKernels& a = active();
+  return a.byIsa[static_cast<std::size_t>(a.isa.load(std::memory_order_relaxed))];
 }
 }  // namespace detail
 

@@ -136,7 +136,7 @@ void TopLevelBvh::intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
   PacketBoxRays boxRays;
   const unsigned coherent = walk.load(lanes, boxRays);
   if (__builtin_popcount(coherent) >= kMinPacketLanes) {
-    activePacketKernel()(bvh_.nodes.data(), boxRays, coherent, false,
+    activePacketKernels().traverse(bvh_.nodes.data(), boxRays, coherent, false,
                          &TopLevelPacketWalk::intersectLeaf, &walk, ctx.nodeVisits);
     lanes &= ~coherent;
   }
@@ -150,7 +150,7 @@ unsigned TopLevelBvh::occludedPacket(const Ray* rays, unsigned lanes, TraversalC
   const unsigned coherent = walk.load(lanes, boxRays);
   unsigned blocked = 0;
   if (__builtin_popcount(coherent) >= kMinPacketLanes) {
-    blocked = activePacketKernel()(bvh_.nodes.data(), boxRays, coherent, true,
+    blocked = activePacketKernels().traverse(bvh_.nodes.data(), boxRays, coherent, true,
                                    &TopLevelPacketWalk::occludedLeaf, &walk, ctx.nodeVisits);
     lanes &= ~coherent;
   }

@@ -141,12 +141,15 @@ RenderStats Renderer::render(const RenderScene& scene, const Camera& camera, Fra
   if (!problem.empty()) throw Error("Renderer::render: " + problem);
 
   const std::uint32_t w = camera.width(), h = camera.height();
-  frame.beauty = Image(w, h, 3);
+  // Every pixel of every image is written below, so images of the right size are reused as
+  // they are: an animation renders into the same memory frame after frame.
+  const auto fits = [&](const auto& image) { return image.width() == w && image.height() == h; };
+  if (!fits(frame.beauty) || frame.beauty.channels() != 3) frame.beauty = Image(w, h, 3);
   if (settings_.aovs) {
-    frame.depth = Image(w, h, 1, kInfinity);
-    frame.normal = Image(w, h, 3);
-    frame.instanceId = IdImage(w, h, kInvalidId);
-    frame.primId = IdImage(w, h, kInvalidId);
+    if (!fits(frame.depth) || frame.depth.channels() != 1) frame.depth = Image(w, h, 1, kInfinity);
+    if (!fits(frame.normal) || frame.normal.channels() != 3) frame.normal = Image(w, h, 3);
+    if (!fits(frame.instanceId)) frame.instanceId = IdImage(w, h, kInvalidId);
+    if (!fits(frame.primId)) frame.primId = IdImage(w, h, kInvalidId);
   } else {
     frame.depth = Image();
     frame.normal = Image();

@@ -52,7 +52,8 @@ struct RenderSettings {
   bool packets = true;
 };
 
-/// The images of one frame. render() (re)allocates them to the camera's size.
+/// The images of one frame. render() allocates them when their size differs from the camera's
+/// and otherwise overwrites every pixel in place.
 struct Frame {
   Image beauty;        ///< linear RGB
   Image depth;         ///< 1 channel: distance along the unit primary ray, +inf on a miss
