@@ -77,8 +77,8 @@ void storeSample(const detail::PixelSample& s, bool aovs, std::uint32_t x, std::
 }
 
 /// Traces and shades every pixel of `rect`, writing only those pixels of `frame`. With packets,
-/// primary rays go to the scene in 4 x 2 pixel blocks (neighbouring rays, coherent), and each
-/// pixel is then shaded from its hit as it would be from a single ray's.
+/// primary rays go to the scene in 4 x 2 pixel blocks (neighbouring rays, coherent), and so do
+/// the block's shadow rays towards each light; each pixel comes out as from single rays.
 TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Camera& camera,
                       const RenderSettings& settings, const TileRect& rect, Frame& frame) {
   TileResult result;
@@ -91,6 +91,8 @@ TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Ca
   } else {
     Ray rays[kRayPacketSize];
     Hit hits[kRayPacketSize];
+    detail::PixelSample samples[kRayPacketSize];
+    detail::BlockScratch scratch;
     std::uint32_t px[kRayPacketSize], py[kRayPacketSize];
     for (std::uint32_t y0 = rect.y0; y0 < rect.y1; y0 += 2) {
       for (std::uint32_t x0 = rect.x0; x0 < rect.x1; x0 += 4) {
@@ -103,9 +105,9 @@ TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Ca
           rays[n++] = camera.primaryRay(x, y);
         }
         scene.intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n), ctx);
+        shader.shadePrimaryBlock(rays, hits, n, ctx, result.counters, scratch, samples);
         for (std::size_t k = 0; k < n; ++k)
-          storeSample(shader.shadePrimaryHit(rays[k], hits[k], ctx, result.counters), settings.aovs,
-                      px[k], py[k], frame);
+          storeSample(samples[k], settings.aovs, px[k], py[k], frame);
       }
     }
   }

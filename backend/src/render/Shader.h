@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <vector>
 
 #include "tracegraph/backend/ObjectAccel.h"
 #include "tracegraph/backend/render/RayOffset.h"
@@ -29,6 +31,35 @@ struct PixelSample {
   std::uint32_t primId = kInvalidId;
 };
 
+/// What one light adds at a surface point, and the shadow ray that decides whether it does.
+struct LightTerm {
+  Vec3f local;                  ///< Phong contribution when unshadowed
+  Ray shadow;                   ///< towards the light (valid when needsShadowRay)
+  bool contributes = false;     ///< the light adds `local` (unless its shadow ray is blocked)
+  bool needsShadowRay = false;  ///< Whitted mode, and the shadow ray has length
+};
+
+/// A surface point being shaded: the hit, its material and the facing normals.
+struct SurfaceShading {
+  SurfaceShading(const Ray& r, const Hit& h, const Scene::SurfaceData& s, const Material& m)
+      : ray(r), hit(h), sd(s), material(m) {}
+  const Ray& ray;
+  const Hit& hit;
+  const Scene::SurfaceData& sd;
+  const Material& material;
+  bool backFace = false;
+  Vec3f ng, ns;                       ///< geometric and shading normal, facing the incoming ray
+  Vec3f dir, v;                       ///< unit ray direction and the view vector (its negation)
+  Vec3f diffuse;                      ///< diffuse colour after texturing
+  Vec3f color;                        ///< accumulated: ambient, then the unshadowed light terms
+  std::optional<SurfacePoint> point;  ///< refined hit point, computed on first use
+};
+
+/// Per-tile scratch memory of shadePrimaryBlock, reused from block to block.
+struct BlockScratch {
+  std::vector<LightTerm> terms;  ///< [light][lane]
+};
+
 /// Traces and shades rays for one mode.
 class Shader {
  public:
@@ -40,11 +71,27 @@ class Shader {
   /// in a packet.
   PixelSample shadePrimaryHit(const Ray& ray, const Hit& hit, TraversalContext& ctx,
                               TileCounters& counters) const;
+  /// Shades the primary rays of up to kRayPacketSize neighbouring pixels whose hits were traced
+  /// together: in Whitted mode the shadow rays towards each light go to the scene as one
+  /// packet. out[k] equals shadePrimaryHit(rays[k], hits[k]) bit for bit.
+  void shadePrimaryBlock(const Ray* rays, const Hit* hits, std::size_t n, TraversalContext& ctx,
+                         TileCounters& counters, BlockScratch& scratch, PixelSample* out) const;
 
  private:
   /// The light arriving along `ray` (Whitted/OpenGL), `depth` bounces after the primary hit.
   Vec3f trace(const Ray& ray, int depth, float weight, TraversalContext& ctx,
               TileCounters& counters) const;
+  /// The material and facing normals at a hit, with the ambient term.
+  SurfaceShading prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const;
+  /// The refined hit point of `sh`, computed once.
+  const SurfacePoint& surface(SurfaceShading& sh) const;
+  /// Calls fn(LightTerm, lightIndex) for every light that may add to the colour at `sh`, in
+  /// light order, counting the shadow rays saved and traced.
+  template <typename Fn>
+  void forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Fn&& fn) const;
+  /// sh.color plus the reflected and refracted light (Whitted mode).
+  Vec3f addSecondary(SurfaceShading& sh, int depth, float weight, TraversalContext& ctx,
+                     TileCounters& counters) const;
   /// Phong shading plus, in Whitted mode, shadows, reflection and refraction at `hit`.
   Vec3f shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
                  float weight, TraversalContext& ctx, TileCounters& counters) const;

@@ -21,10 +21,13 @@ bool isBlack(const Vec3f& c) {
   return !(c.x > 0.0f || c.y > 0.0f || c.z > 0.0f);
 }
 
-/// Calls fn(LightSample) for every light of the scene, as seen from point p.
+/// Calls fn(LightSample, index) for every light of the scene, as seen from point p; `index`
+/// numbers the lights point, directional, then spot (lightCount of them in all).
 template <typename Fn>
 void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
+  std::size_t index = 0;
   for (const PointLight& l : rs.pointLights) {
+    const std::size_t i = index++;
     const Vec3f toLight = l.position - p;
     const float distance = length(toLight);
     if (!(distance > 0.0f)) continue;  // a light exactly at the point lights nothing
@@ -32,16 +35,17 @@ void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
     s.direction = toLight / distance;
     s.color = l.attenuation.none() ? l.color : l.color * l.attenuation.factor(distance);
     s.position = l.position;
-    fn(s);
+    fn(s, i);
   }
   for (const DirectionalLight& l : rs.directionalLights) {
     LightSample s;
     s.direction = -normalize(l.direction);
     s.color = l.color;
     s.atInfinity = true;
-    fn(s);
+    fn(s, index++);
   }
   for (const SpotLight& l : rs.spotLights) {
+    const std::size_t i = index++;
     const Vec3f toLight = l.position - p;
     const float distance = length(toLight);
     if (!(distance > 0.0f)) continue;
@@ -49,8 +53,12 @@ void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
     s.direction = toLight / distance;
     s.color = l.color * (l.coneFactor(-s.direction) * l.attenuation.factor(distance));
     s.position = l.position;
-    fn(s);
+    fn(s, i);
   }
+}
+
+std::size_t lightCount(const RenderScene& rs) {
+  return rs.pointLights.size() + rs.directionalLights.size() + rs.spotLights.size();
 }
 
 /// Phong terms for unit normal n, unit view vector v and unit light vector l with nl = n.l > 0:
@@ -150,57 +158,144 @@ bool Shader::mayTrace(int depth, float childWeight, TileCounters& counters) cons
   return true;
 }
 
-Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
-                       float weight, TraversalContext& ctx, TileCounters& counters) const {
-  const Material& m = rs_.material(hit.instanceId, hit.objectId, hit.primId);
+SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const {
+  SurfaceShading sh{ray, hit, sd, rs_.material(hit.instanceId, hit.objectId, hit.primId)};
   // Shade with the normals facing the incoming ray; the geometric normal alone decides the
   // side, because interpolated normals can disagree with it near silhouettes.
-  const bool backFace = dot(sd.geometricNormal, ray.direction) > 0.0f;
-  const Vec3f ng = backFace ? -sd.geometricNormal : sd.geometricNormal;
-  const Vec3f ns = backFace ? -sd.shadingNormal : sd.shadingNormal;
-  const Vec3f dir = normalize(ray.direction);
-  const Vec3f v = -dir;
-
-  Vec3f diffuse = m.diffuse, ambient = m.ambient;
+  sh.backFace = dot(sd.geometricNormal, ray.direction) > 0.0f;
+  sh.ng = sh.backFace ? -sd.geometricNormal : sd.geometricNormal;
+  sh.ns = sh.backFace ? -sd.shadingNormal : sd.shadingNormal;
+  sh.dir = normalize(ray.direction);
+  sh.v = -sh.dir;
+  const Material& m = sh.material;
+  sh.diffuse = m.diffuse;
+  Vec3f ambient = m.ambient;
   if (m.texture != kInvalidId && sd.hasUv) {
     const Vec3f texel = rs_.textures[m.texture]->sample(sd.uv, settings_.textureFilter);
-    diffuse = m.textureMode == TextureMode::Replace ? texel : diffuse * texel;
+    sh.diffuse = m.textureMode == TextureMode::Replace ? texel : sh.diffuse * texel;
     ambient = ambient * texel;
   }
-  Vec3f color = ambient * rs_.ambient;
+  sh.color = ambient * rs_.ambient;
+  return sh;
+}
 
+const SurfacePoint& Shader::surface(SurfaceShading& sh) const {
   // The refined hit point is needed only for secondary rays; compute it at most once.
-  std::optional<SurfacePoint> point;
-  auto surface = [&]() -> const SurfacePoint& {
-    if (!point) point = refineHitPoint(scene_, ray, hit);
-    return *point;
-  };
+  if (!sh.point) sh.point = refineHitPoint(scene_, sh.ray, sh.hit);
+  return *sh.point;
+}
 
-  const bool lit = m.lit();
-  forEachLight(rs_, sd.position, [&](const LightSample& light) {
-    const float nl = dot(ns, light.direction);
+template <typename Fn>
+void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Fn&& fn) const {
+  const bool lit = sh.material.lit();
+  forEachLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t index) {
+    const float nl = dot(sh.ns, light.direction);
     // Model only what the scene needs: no shadow ray when the light cannot change the colour.
-    if (!lit || isBlack(light.color) || nl <= 0.0f || dot(ng, light.direction) <= 0.0f) {
+    if (!lit || isBlack(light.color) || nl <= 0.0f || dot(sh.ng, light.direction) <= 0.0f) {
       if (whitted_) ++counters.saved.shadow;
       return;
     }
-    const Vec3f local = light.color * phong(m, diffuse, ns, v, light.direction, nl);
-    if (isBlack(local)) {
+    LightTerm term;
+    term.local = light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction, nl);
+    if (isBlack(term.local)) {
       if (whitted_) ++counters.saved.shadow;
       return;
     }
+    term.contributes = true;
     if (whitted_) {
-      const Ray shadow = light.atInfinity ? spawnRay(surface(), light.direction)
-                                          : spawnRayTo(surface(), light.position);
-      if (shadow.tfar > 0.0f) {
+      term.shadow = light.atInfinity ? spawnRay(surface(sh), light.direction)
+                                     : spawnRayTo(surface(sh), light.position);
+      if (term.shadow.tfar > 0.0f) {
         ++counters.traced.shadow;
-        if (scene_.occluded(shadow, ctx)) return;
+        term.needsShadowRay = true;
       }
     }
-    color += local;
+    fn(term, index);
   });
-  if (!whitted_) return color;
+}
 
+Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
+                       float weight, TraversalContext& ctx, TileCounters& counters) const {
+  SurfaceShading sh = prepare(ray, hit, sd);
+  forEachLightTerm(sh, counters, [&](const LightTerm& term, std::size_t) {
+    if (term.needsShadowRay && scene_.occluded(term.shadow, ctx)) return;
+    sh.color += term.local;
+  });
+  return whitted_ ? addSecondary(sh, depth, weight, ctx, counters) : sh.color;
+}
+
+void Shader::shadePrimaryBlock(const Ray* rays, const Hit* hits, std::size_t n,
+                               TraversalContext& ctx, TileCounters& counters, BlockScratch& scratch,
+                               PixelSample* out) const {
+  const bool debugMode = settings_.mode == RenderMode::Normals ||
+                         settings_.mode == RenderMode::Classes ||
+                         settings_.mode == RenderMode::Instances;
+  if (!whitted_ || debugMode) {
+    // No shadow rays to gather: shade pixel by pixel.
+    for (std::size_t k = 0; k < n; ++k) out[k] = shadePrimaryHit(rays[k], hits[k], ctx, counters);
+    return;
+  }
+  // Phase 1: per pixel, the surface and every light's term with its shadow ray.
+  const std::size_t lights = lightCount(rs_);
+  scratch.terms.assign(lights * kRayPacketSize, LightTerm{});
+  std::optional<Scene::SurfaceData> sds[kRayPacketSize];
+  std::optional<SurfaceShading> shading[kRayPacketSize];
+  for (std::size_t k = 0; k < n; ++k) {
+    PixelSample& s = out[k];
+    s = PixelSample{};
+    ++counters.traced.primary;
+    if (!hits[k].valid()) {
+      s.color = rs_.background;
+      continue;
+    }
+    s.depth = hits[k].t;
+    s.instanceId = hits[k].instanceId;
+    s.primId = hits[k].primId;
+    sds[k] = scene_.surfaceAt(rays[k], hits[k]);
+    s.normal = sds[k]->shadingNormal;
+    shading[k].emplace(prepare(rays[k], hits[k], *sds[k]));
+    forEachLightTerm(*shading[k], counters, [&](const LightTerm& term, std::size_t index) {
+      scratch.terms[index * kRayPacketSize + k] = term;
+    });
+  }
+  // Phase 2: one packet of shadow rays per light (neighbouring pixels towards one light).
+  Ray shadowRays[kRayPacketSize];
+  std::uint8_t blocked[kRayPacketSize];
+  std::size_t lane[kRayPacketSize];
+  for (std::size_t j = 0; j < lights; ++j) {
+    LightTerm* terms = scratch.terms.data() + j * kRayPacketSize;
+    std::size_t m = 0;
+    for (std::size_t k = 0; k < n; ++k)
+      if (terms[k].needsShadowRay) {
+        lane[m] = k;
+        shadowRays[m++] = terms[k].shadow;
+      }
+    if (m == 0) continue;
+    scene_.occluded(std::span<const Ray>(shadowRays, m), std::span<std::uint8_t>(blocked, m), ctx);
+    for (std::size_t i = 0; i < m; ++i)
+      if (blocked[i]) terms[lane[i]].contributes = false;
+  }
+  // Phase 3: per pixel, the lights in order (the single-ray sum's order), then the secondary
+  // rays one by one.
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!shading[k]) continue;
+    SurfaceShading& sh = *shading[k];
+    for (std::size_t j = 0; j < lights; ++j) {
+      const LightTerm& term = scratch.terms[j * kRayPacketSize + k];
+      if (term.contributes) sh.color += term.local;
+    }
+    out[k].color = addSecondary(sh, 0, 1.0f, ctx, counters);
+  }
+}
+
+Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, TraversalContext& ctx,
+                           TileCounters& counters) const {
+  const Material& m = sh.material;
+  const Vec3f& dir = sh.dir;
+  const Vec3f& ns = sh.ns;
+  const Vec3f& ng = sh.ng;
+  const bool backFace = sh.backFace;
+  Vec3f color = sh.color;
   // Secondary rays. Glass splits its transmittance T between reflection and refraction by
   // Fresnel; the mirror part (specular) adds to the reflection, traced as one ray.
   Vec3f reflectWeight = m.specular;
@@ -233,7 +328,8 @@ Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData&
       Vec3f r = reflect(dir, ns);
       if (dot(r, ng) <= 0.0f) r = reflect(dir, ng);  // same reason as for refraction
       ++counters.traced.reflection;
-      color += reflectWeight * trace(spawnRay(surface(), r), depth + 1, childWeight, ctx, counters);
+      color +=
+          reflectWeight * trace(spawnRay(surface(sh), r), depth + 1, childWeight, ctx, counters);
     }
   } else {
     ++counters.saved.reflection;
@@ -243,7 +339,7 @@ Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData&
     const float childWeight = weight * refractWeight;
     if (mayTrace(depth, childWeight, counters)) {
       ++counters.traced.refraction;
-      color += trace(spawnRay(surface(), refractDir), depth + 1, childWeight, ctx, counters) *
+      color += trace(spawnRay(surface(sh), refractDir), depth + 1, childWeight, ctx, counters) *
                refractWeight;
     }
   }

@@ -26,6 +26,7 @@
 #include "tracegraph/backend/Ray.h"
 #include "tracegraph/backend/ReferenceIntersector.h"
 #include "tracegraph/backend/Scene.h"
+#include "tracegraph/backend/Simd.h"
 #include "tracegraph/backend/TopLevelAccel.h"
 #include "tracegraph/backend/TopLevelKdTree.h"
 #include "tracegraph/backend/TriangleMesh.h"
