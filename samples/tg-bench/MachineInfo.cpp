@@ -3,6 +3,8 @@
 #include <fstream>
 #include <thread>
 
+#include "tracegraph/backend/Simd.h"
+
 namespace tg::bench {
 
 int hardwareThreads() {
@@ -22,7 +24,9 @@ std::string machineDescription() {
     if (begin != std::string::npos) model = line.substr(begin);
     break;
   }
-  return model + ", " + std::to_string(hardwareThreads()) + " cores";
+  // The packet kernel in use says which SIMD width the packet rows measured.
+  return model + ", " + std::to_string(hardwareThreads()) + " cores, SIMD " +
+         std::string(simdIsaName(activeSimdIsa()));
 }
 
 }  // namespace tg::bench
