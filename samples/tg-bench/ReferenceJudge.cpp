@@ -137,6 +137,18 @@ std::vector<RayOutcome> traceOutcomes(const Scene& scene, std::span<const Ray> r
   return out;
 }
 
+std::vector<RayOutcome> traceOutcomesInPackets(const Scene& scene, std::span<const Ray> rays) {
+  std::vector<RayOutcome> out(rays.size());
+  parallelOverRays(rays.size(), [&](std::size_t begin, std::size_t end) {
+    TraversalContext ctx;
+    std::vector<Hit> hits(end - begin);
+    scene.intersect(rays.subspan(begin, end - begin), std::span<Hit>(hits), ctx);
+    for (std::size_t i = begin; i < end; ++i)
+      if (hits[i - begin].valid()) out[i] = {hits[i - begin].instanceId, hits[i - begin].primId};
+  });
+  return out;
+}
+
 Judgement probeScene(const Scene& scene, std::uint64_t seed) {
   const std::vector<Ray> rays = makeProbeRays(scene.bounds(), kProbeRays, seed);
   const ReferenceIntersector reference(scene);

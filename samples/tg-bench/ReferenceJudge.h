@@ -57,6 +57,10 @@ double ulpError(float t, double reference);
 /// Outcomes of tracing `rays` through `scene` (parallel in the calling arena).
 std::vector<RayOutcome> traceOutcomes(const Scene& scene, std::span<const Ray> rays);
 
+/// The same through the packet interface (Scene::intersect over spans): consecutive rays form
+/// the packets.
+std::vector<RayOutcome> traceOutcomesInPackets(const Scene& scene, std::span<const Ray> rays);
+
 /// Rays every build-style suite traces once after its timed builds, to show that what it timed
 /// still answers correctly.
 inline constexpr std::size_t kProbeRays = 512;
