@@ -64,8 +64,7 @@ std::optional<Affine3<T>> Affine3<T>::inverse() const {
   r.m[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * id;
   r.m[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * id;
   const Vec3<T> t{m[0][3], m[1][3], m[2][3]};
-  for (int i = 0; i < 3; ++i)
-    r.m[i][3] = -(r.m[i][0] * t.x + r.m[i][1] * t.y + r.m[i][2] * t.z);
+  for (int i = 0; i < 3; ++i) r.m[i][3] = -(r.m[i][0] * t.x + r.m[i][1] * t.y + r.m[i][2] * t.z);
   if (!r.isFinite()) return std::nullopt;
   return r;
 }

@@ -192,9 +192,13 @@ inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, floa
 /// hit; closest-hit leaf functions lower `tfar` themselves. Any-hit queries return at the first
 /// hit. An entry exactly at tfar is still visited, so the tie rule sees every candidate at an
 /// equal t.
+///
+/// The walk starts at the subtree (rootChild, rootCount): node rootChild when rootCount is 0,
+/// else the leaf of rootCount primitives at rootChild (traverseBvh4 starts at the root node).
 template <bool AnyHit, class LeafFn>
-bool traverseBvh4(const Bvh4NodeArray& nodes, const Vec3f& origin, const Vec3f& direction,
-                  float tnear, const float& tfar, std::uint64_t& nodeVisits, LeafFn&& leaf) {
+bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::uint32_t rootCount,
+                      const Vec3f& origin, const Vec3f& direction, float tnear, const float& tfar,
+                      std::uint64_t& nodeVisits, LeafFn&& leaf) {
   if (nodes.empty()) return false;
   struct Entry {
     std::uint32_t child, count;
@@ -203,7 +207,7 @@ bool traverseBvh4(const Bvh4NodeArray& nodes, const Vec3f& origin, const Vec3f& 
   const Bvh4Ray ray(origin, direction, tnear);
   Entry stack[3 * kBvh4MaxDepth + 4];
   int stackSize = 0;
-  Entry current{0, 0, tnear};
+  Entry current{rootChild, rootCount, tnear};
   bool found = false;
   for (;;) {
     if (current.count == 0) {
@@ -243,6 +247,14 @@ bool traverseBvh4(const Bvh4NodeArray& nodes, const Vec3f& origin, const Vec3f& 
       if (!(current.tmin > tfar)) break;
     }
   }
+}
+
+/// traverseBvh4From at the root node.
+template <bool AnyHit, class LeafFn>
+bool traverseBvh4(const Bvh4NodeArray& nodes, const Vec3f& origin, const Vec3f& direction,
+                  float tnear, const float& tfar, std::uint64_t& nodeVisits, LeafFn&& leaf) {
+  return traverseBvh4From<AnyHit>(nodes, 0, 0, origin, direction, tnear, tfar, nodeVisits,
+                                  static_cast<LeafFn&&>(leaf));
 }
 
 }  // namespace tg::detail

@@ -230,6 +230,24 @@ const float* BvhAccel::triangleFloats(std::uint32_t first) const {
   return &triangles_[first].v0.x;
 }
 
+bool BvhAccel::intersectSubtree(ObjectRay& ray, Hit& hit, std::uint32_t node,
+                                TraversalContext& ctx) const {
+  return traverseBvh4From<false>(nodes_, node, 0, ray.wt.origin, ray.wt.direction, ray.wt.tnear,
+                                 ray.tfar, ctx.nodeVisits,
+                                 [&](std::uint32_t first, std::uint32_t count) {
+                                   return intersectLeaf(ray, hit, first, count, ctx);
+                                 });
+}
+
+bool BvhAccel::occludedSubtree(const ObjectRay& ray, std::uint32_t node,
+                               TraversalContext& ctx) const {
+  return traverseBvh4From<true>(nodes_, node, 0, ray.wt.origin, ray.wt.direction, ray.wt.tnear,
+                                ray.tfar, ctx.nodeVisits,
+                                [&](std::uint32_t first, std::uint32_t count) {
+                                  return occludedLeaf(ray, first, count, ctx);
+                                });
+}
+
 bool BvhAccel::intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const {
   return traverseBvh4<false>(nodes_, ray.wt.origin, ray.wt.direction, ray.wt.tnear, ray.tfar,
                              ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
@@ -324,6 +342,20 @@ unsigned occludedPacketLeaf(void* user, std::uint32_t first, std::uint32_t count
   return blocked;
 }
 
+unsigned intersectSingleLane(void* user, std::uint32_t child, unsigned lane, PacketBoxRays& rays) {
+  auto& c = *static_cast<ClosestLeafContext*>(user);
+  if (c.accel->intersectSubtree(c.rays->rays[lane], c.hits[lane], child, *c.ctx)) {
+    rays.tfar[lane] = c.rays->rays[lane].tfar;
+    c.changed |= 1u << lane;
+  }
+  return 0;
+}
+
+unsigned occludedSingleLane(void* user, std::uint32_t child, unsigned lane, PacketBoxRays&) {
+  const auto& c = *static_cast<const PacketLeafContext*>(user);
+  return c.accel->occludedSubtree(c.packet->rays[lane], child, *c.ctx) ? 1u : 0u;
+}
+
 /// Loads the lanes of `packet` whose direction signs match its first lane's into `rays` and
 /// returns them; the other lanes must be traced alone. Of those, the lanes that share the
 /// first one's axis permutation go into the triangle pre-filter's layout.
@@ -376,8 +408,8 @@ unsigned BvhAccel::intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit*
   c.hits = hits;
   const unsigned coherent = loadObjectPacket(packet, lanes, rays, c);
   if (__builtin_popcount(coherent) >= kMinPacketLanes) {
-    activePacketKernels().traverse(nodes_.data(), rays, coherent, false, &intersectPacketLeaf, &c,
-                                   ctx.nodeVisits);
+    activePacketKernels().traverse(nodes_.data(), rays, coherent, false, &intersectPacketLeaf,
+                                   &intersectSingleLane, &c, ctx.nodeVisits);
   } else {
     c.changed = ObjectAccel::intersectPacket(packet, coherent, hits, ctx);
   }
@@ -396,7 +428,7 @@ unsigned BvhAccel::occludedPacket(const ObjectRayPacket& packet, unsigned lanes,
   const unsigned blocked =
       __builtin_popcount(coherent) >= kMinPacketLanes
           ? activePacketKernels().traverse(nodes_.data(), rays, coherent, true, &occludedPacketLeaf,
-                                           &c, ctx.nodeVisits)
+                                           &occludedSingleLane, &c, ctx.nodeVisits)
           : ObjectAccel::occludedPacket(packet, coherent, ctx);
   return blocked | ObjectAccel::occludedPacket(packet, lanes & ~coherent, ctx);
 }

@@ -42,6 +42,10 @@ class BvhAccel final : public ObjectAccel {
   /// Any-hit test of one ray against a leaf's triangles.
   bool occludedLeaf(const ObjectRay& ray, std::uint32_t first, std::uint32_t count,
                     TraversalContext& ctx) const;
+  /// Closest hit of one ray in the subtree rooted at inner node `node` (the single-ray walk).
+  bool intersectSubtree(ObjectRay& ray, Hit& hit, std::uint32_t node, TraversalContext& ctx) const;
+  /// Any hit of one ray in the subtree rooted at inner node `node`.
+  bool occludedSubtree(const ObjectRay& ray, std::uint32_t node, TraversalContext& ctx) const;
   /// Closest-hit test of one ray against triangle `k` (leaf order): the step of intersectLeaf.
   bool intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) const;
   /// Any-hit test of one ray against triangle `k` (leaf order).

@@ -8,10 +8,14 @@ namespace tg {
 
 std::string_view accelKindName(AccelKind kind) {
   switch (kind) {
-    case AccelKind::SahKdTree: return "sah-kd";
-    case AccelKind::FastKdTree: return "fast-kd";
-    case AccelKind::Bvh: return "bvh";
-    case AccelKind::BvhFast: return "bvh-fast";
+    case AccelKind::SahKdTree:
+      return "sah-kd";
+    case AccelKind::FastKdTree:
+      return "fast-kd";
+    case AccelKind::Bvh:
+      return "bvh";
+    case AccelKind::BvhFast:
+      return "bvh-fast";
   }
   return "unknown";
 }
@@ -19,9 +23,11 @@ std::string_view accelKindName(AccelKind kind) {
 std::unique_ptr<ObjectAccel> createObjectAccel(AccelKind kind) {
   switch (kind) {
     case AccelKind::SahKdTree:
-    case AccelKind::FastKdTree: return std::make_unique<KdTreeAccel>(kind);
+    case AccelKind::FastKdTree:
+      return std::make_unique<KdTreeAccel>(kind);
     case AccelKind::Bvh:
-    case AccelKind::BvhFast: return std::make_unique<detail::BvhAccel>(kind);
+    case AccelKind::BvhFast:
+      return std::make_unique<detail::BvhAccel>(kind);
   }
   return nullptr;
 }

@@ -7,8 +7,8 @@ bool intersectKdTree(const KdTree& tree, const std::vector<TriangleVertices>& tr
                      ObjectRay& ray, Hit& hit, TraversalContext& ctx) {
   ctx.mailbox.clear();
   return detail::traverseKdTree<false>(
-      tree.nodes, tree.bounds, ray.wt.origin, ray.wt.direction, ray.inverseDirection,
-      ray.wt.tnear, ray.tfar, ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
+      tree.nodes, tree.bounds, ray.wt.origin, ray.wt.direction, ray.inverseDirection, ray.wt.tnear,
+      ray.tfar, ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
         bool found = false;
         for (std::uint32_t i = 0; i < count; ++i) {
           const std::uint32_t prim = tree.primIndices[first + i];
@@ -35,8 +35,8 @@ bool occludedKdTree(const KdTree& tree, const std::vector<TriangleVertices>& tri
                     const ObjectRay& ray, TraversalContext& ctx) {
   ctx.mailbox.clear();
   return detail::traverseKdTree<true>(
-      tree.nodes, tree.bounds, ray.wt.origin, ray.wt.direction, ray.inverseDirection,
-      ray.wt.tnear, ray.tfar, ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
+      tree.nodes, tree.bounds, ray.wt.origin, ray.wt.direction, ray.inverseDirection, ray.wt.tnear,
+      ray.tfar, ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
         for (std::uint32_t i = 0; i < count; ++i) {
           const std::uint32_t prim = tree.primIndices[first + i];
           if (ctx.mailbox.testAndSet(prim)) continue;

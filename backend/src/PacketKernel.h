@@ -42,14 +42,21 @@ struct alignas(64) PacketBoxRays {
 using PacketLeafFn = unsigned (*)(void* user, std::uint32_t first, std::uint32_t count,
                                   unsigned lanes, PacketBoxRays& rays);
 
+/// Walks the subtree rooted at inner node `child` with lane `lane` alone, as the single-ray
+/// walk does (traverseBvh4From); closest-hit callbacks lower rays.tfar[lane], any-hit
+/// callbacks return non-zero when the lane is occluded. The packet walk hands a subtree over
+/// when only one lane still enters it: the shared walk would cost more than it saves.
+using PacketSingleFn = unsigned (*)(void* user, std::uint32_t child, unsigned lane,
+                                    PacketBoxRays& rays);
+
 /// Walks a BVH4 (root at nodes[0], at least one node) with the lanes in `lanes`. Closest hit
 /// (anyHit false): returns 0; the answer is what the leaf callbacks recorded. Any hit: returns
 /// the lanes found occluded. Every lane visits exactly the leaves whose widened box interval
 /// meets [tnear, tfar] at the time, with the single-ray box test's arithmetic, so a lane finds
 /// what the single-ray walk finds.
 using PacketTraverseFn = unsigned (*)(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes,
-                                      bool anyHit, PacketLeafFn leaf, void* user,
-                                      std::uint64_t& nodeVisits);
+                                      bool anyHit, PacketLeafFn leaf, PacketSingleFn single,
+                                      void* user, std::uint64_t& nodeVisits);
 
 /// The lanes of a packet as the watertight triangle test sees them, for lanes that share the
 /// axis permutation (kx, ky, kz) of WatertightRay.

@@ -45,8 +45,9 @@ struct Avx2NodeTest {
 };
 
 unsigned traverseAvx2(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
-                      PacketLeafFn leaf, void* user, std::uint64_t& nodeVisits) {
-  return traversePacket<Avx2NodeTest>(nodes, rays, lanes, anyHit, leaf, user, nodeVisits);
+                      PacketLeafFn leaf, PacketSingleFn single, void* user,
+                      std::uint64_t& nodeVisits) {
+  return traversePacket<Avx2NodeTest>(nodes, rays, lanes, anyHit, leaf, single, user, nodeVisits);
 }
 
 }  // namespace

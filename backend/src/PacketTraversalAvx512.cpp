@@ -66,8 +66,9 @@ struct Avx512NodeTest {
 };
 
 unsigned traverseAvx512(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
-                        PacketLeafFn leaf, void* user, std::uint64_t& nodeVisits) {
-  return traversePacket<Avx512NodeTest>(nodes, rays, lanes, anyHit, leaf, user, nodeVisits);
+                        PacketLeafFn leaf, PacketSingleFn single, void* user,
+                        std::uint64_t& nodeVisits) {
+  return traversePacket<Avx512NodeTest>(nodes, rays, lanes, anyHit, leaf, single, user, nodeVisits);
 }
 
 }  // namespace

@@ -22,7 +22,8 @@ inline unsigned lowestLane(unsigned mask) {
 /// beyond its own closest hit, as the single-ray walk does.
 template <class NodeTest>
 unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
-                        PacketLeafFn leaf, void* user, std::uint64_t& nodeVisits) {
+                        PacketLeafFn leaf, PacketSingleFn single, void* user,
+                        std::uint64_t& nodeVisits) {
   struct Entry {
     std::uint32_t child, count;
     unsigned lanes;
@@ -34,7 +35,15 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
   std::uint32_t child = 0, count = 0;
   unsigned current = lanes;
   for (;;) {
-    if (count == 0) {
+    if (count == 0 && (current & (current - 1)) == 0) {
+      // One lane left in this subtree: it walks on alone.
+      const unsigned lane = lowestLane(current);
+      if (single(user, child, lane, rays) != 0 && anyHit) {
+        occluded |= current;
+        active &= ~current;
+        if (active == 0) return occluded;
+      }
+    } else if (count == 0) {
       ++nodeVisits;
       const Bvh4Node& node = nodes[child];
       unsigned hit[4];

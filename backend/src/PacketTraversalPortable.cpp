@@ -107,8 +107,10 @@ using PortableLanes = Lanes1;
 #endif
 
 unsigned traversePortable(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
-                          PacketLeafFn leaf, void* user, std::uint64_t& nodeVisits) {
-  return traversePacket<PortableNodeTest>(nodes, rays, lanes, anyHit, leaf, user, nodeVisits);
+                          PacketLeafFn leaf, PacketSingleFn single, void* user,
+                          std::uint64_t& nodeVisits) {
+  return traversePacket<PortableNodeTest>(nodes, rays, lanes, anyHit, leaf, single, user,
+                                          nodeVisits);
 }
 
 }  // namespace

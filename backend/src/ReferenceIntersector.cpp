@@ -35,8 +35,8 @@ std::optional<DoubleHit> intersectDouble(const Vec3d& o, const Vec3d& d, const V
   // measuring in space, not in barycentrics, keeps slivers from looking safely inside.
   const double twiceArea = length(cross(e1, e2));
   const double w = 1.0 - u - v;
-  const double inPlane = std::min({w * twiceArea / length(v2 - v1), u * twiceArea / length(e2),
-                                   v * twiceArea / length(e1)});
+  const double inPlane = std::min(
+      {w * twiceArea / length(v2 - v1), u * twiceArea / length(e2), v * twiceArea / length(e1)});
   // The float test decides in the plane perpendicular to the ray, where in-plane distances
   // shrink by the cosine of the incidence angle: grazing hits are ambiguous over a wider band.
   const double cosine = std::abs(det) / (twiceArea * length(d));

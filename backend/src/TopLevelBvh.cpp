@@ -110,6 +110,44 @@ struct TopLevelPacketWalk {
     return blocked;
   }
 
+  static unsigned intersectSingle(void* user, std::uint32_t child, unsigned lane,
+                                  PacketBoxRays& boxRays) {
+    auto& w = *static_cast<TopLevelPacketWalk*>(user);
+    const Ray& ray = w.rays[lane];
+    Hit& hit = w.hits[lane];
+    float tfar = boxRays.tfar[lane];
+    traverseBvh4From<false>(w.top->bvh_.nodes, child, 0, ray.origin, ray.direction, ray.tnear, tfar,
+                            w.ctx->nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
+                              bool found = false;
+                              for (std::uint32_t k = first; k < first + count; ++k) {
+                                const InstanceRecord& inst = w.top->instances_[w.top->refs_[k]];
+                                if (intersectInstance(inst, ray, hit, *w.ctx)) {
+                                  tfar = std::min(tfar, hit.t);
+                                  found = true;
+                                }
+                              }
+                              return found;
+                            });
+    boxRays.tfar[lane] = tfar;
+    return 0;
+  }
+
+  static unsigned occludedSingle(void* user, std::uint32_t child, unsigned lane, PacketBoxRays&) {
+    auto& w = *static_cast<TopLevelPacketWalk*>(user);
+    const Ray& ray = w.rays[lane];
+    return traverseBvh4From<true>(
+               w.top->bvh_.nodes, child, 0, ray.origin, ray.direction, ray.tnear, ray.tfar,
+               w.ctx->nodeVisits,
+               [&](std::uint32_t first, std::uint32_t count) {
+                 for (std::uint32_t k = first; k < first + count; ++k)
+                   if (occludedInstance(w.top->instances_[w.top->refs_[k]], ray, *w.ctx))
+                     return true;
+                 return false;
+               })
+               ? 1u
+               : 0u;
+  }
+
   /// Loads the world rays of `lanes` whose direction signs match the first lane's.
   unsigned load(unsigned lanes, PacketBoxRays& boxRays) const {
     const unsigned firstLane = static_cast<unsigned>(__builtin_ctz(lanes));
@@ -137,7 +175,8 @@ void TopLevelBvh::intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
   const unsigned coherent = walk.load(lanes, boxRays);
   if (__builtin_popcount(coherent) >= kMinPacketLanes) {
     activePacketKernels().traverse(bvh_.nodes.data(), boxRays, coherent, false,
-                         &TopLevelPacketWalk::intersectLeaf, &walk, ctx.nodeVisits);
+                                   &TopLevelPacketWalk::intersectLeaf,
+                                   &TopLevelPacketWalk::intersectSingle, &walk, ctx.nodeVisits);
     lanes &= ~coherent;
   }
   TopLevelAccel::intersectPacket(rays, lanes, hits, ctx);
@@ -150,8 +189,9 @@ unsigned TopLevelBvh::occludedPacket(const Ray* rays, unsigned lanes, TraversalC
   const unsigned coherent = walk.load(lanes, boxRays);
   unsigned blocked = 0;
   if (__builtin_popcount(coherent) >= kMinPacketLanes) {
-    blocked = activePacketKernels().traverse(bvh_.nodes.data(), boxRays, coherent, true,
-                                   &TopLevelPacketWalk::occludedLeaf, &walk, ctx.nodeVisits);
+    blocked = activePacketKernels().traverse(
+        bvh_.nodes.data(), boxRays, coherent, true, &TopLevelPacketWalk::occludedLeaf,
+        &TopLevelPacketWalk::occludedSingle, &walk, ctx.nodeVisits);
     lanes &= ~coherent;
   }
   return blocked | TopLevelAccel::occludedPacket(rays, lanes, ctx);

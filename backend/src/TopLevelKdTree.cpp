@@ -16,16 +16,20 @@ namespace tg {
 
 std::string_view topLevelKindName(TopLevelKind kind) {
   switch (kind) {
-    case TopLevelKind::KdTree: return "kd";
-    case TopLevelKind::Bvh: return "bvh";
+    case TopLevelKind::KdTree:
+      return "kd";
+    case TopLevelKind::Bvh:
+      return "bvh";
   }
   return "unknown";
 }
 
 std::unique_ptr<TopLevelAccel> createTopLevelAccel(TopLevelKind kind) {
   switch (kind) {
-    case TopLevelKind::KdTree: return std::make_unique<TopLevelKdTree>();
-    case TopLevelKind::Bvh: return std::make_unique<detail::TopLevelBvh>();
+    case TopLevelKind::KdTree:
+      return std::make_unique<TopLevelKdTree>();
+    case TopLevelKind::Bvh:
+      return std::make_unique<detail::TopLevelBvh>();
   }
   return nullptr;
 }
