@@ -2,6 +2,7 @@
 // the watertight triangle test.
 #include "BvhAccel.h"
 
+#include "LeafTest.h"
 #include "PacketRays.h"
 
 #include <tbb/blocked_range.h>
@@ -187,19 +188,7 @@ void BvhAccel::finishStats() {
 }
 
 bool BvhAccel::intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) const {
-  const TriangleVertices& tri = triangles_[k];
-  TriangleHit th;
-  if (!intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return false;
-  const std::uint32_t prim = primIds_[k];
-  if (!hitPrecedes(th.t, ray.instanceId, prim, hit)) return false;
-  hit.t = th.t;
-  hit.u = th.u;
-  hit.v = th.v;
-  hit.primId = prim;
-  hit.instanceId = ray.instanceId;
-  hit.objectId = ray.objectId;
-  ray.tfar = th.t;
-  return true;
+  return recordTriangleHit(ray, triangles_[k], primIds_[k], hit);
 }
 
 bool BvhAccel::occludedTriangle(const ObjectRay& ray, std::uint32_t k) const {

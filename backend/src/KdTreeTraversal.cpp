@@ -1,5 +1,6 @@
 // Object-level kd-tree queries: the shared traversal with mailboxed watertight leaf tests.
 #include "KdTraversal.h"
+#include "LeafTest.h"
 
 namespace tg {
 
@@ -14,18 +15,7 @@ bool intersectKdTree(const KdTree& tree, const std::vector<TriangleVertices>& tr
           const std::uint32_t prim = tree.primIndices[first + i];
           if (ctx.mailbox.testAndSet(prim)) continue;
           ++ctx.triangleTests;
-          const TriangleVertices& tri = triangles[prim];
-          TriangleHit th;
-          if (!intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) continue;
-          if (!hitPrecedes(th.t, ray.instanceId, prim, hit)) continue;
-          hit.t = th.t;
-          hit.u = th.u;
-          hit.v = th.v;
-          hit.primId = prim;
-          hit.instanceId = ray.instanceId;
-          hit.objectId = ray.objectId;
-          ray.tfar = th.t;
-          found = true;
+          found |= detail::recordTriangleHit(ray, triangles[prim], prim, hit);
         }
         return found;
       });
