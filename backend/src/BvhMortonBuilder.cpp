@@ -125,16 +125,23 @@ class Hierarchy {
     while (seen < static_cast<std::size_t>(depth) &&
            !maxDepth_.compare_exchange_weak(seen, static_cast<std::size_t>(depth))) {
     }
-    // Open the largest range that must split until there are four: every child range is at
-    // least one binary level below this node's, so the BVH4 is no deeper than the binary tree.
+    // Open the range that must split and spans the largest cell of the code grid (the highest
+    // differing bit; then the most primitives) until there are four: like the SAH builder's
+    // widest child first, it keeps big boxes from sharing a node with small ones. Every child
+    // range is at least one binary level below this node's, so the BVH4 is no deeper than the
+    // binary tree.
     Range ranges[4] = {range, {}, {}, {}};
     int n = 1;
     while (n < 4) {
       int largest = -1;
-      std::uint32_t largestCount = maxLeaf_;
+      std::uint64_t largestKey = 0;
       for (int c = 0; c < n; ++c) {
-        if (ranges[c].count() > largestCount) {
-          largestCount = ranges[c].count();
+        if (ranges[c].count() <= maxLeaf_) continue;
+        const std::uint64_t key =
+            (std::uint64_t{codes_[ranges[c].begin] ^ codes_[ranges[c].end - 1]} << 32) |
+            ranges[c].count();
+        if (key > largestKey) {
+          largestKey = key;
           largest = c;
         }
       }
