@@ -94,9 +94,9 @@ class Hierarchy {
   /// Builds the tree over [0, n) into nodes (sized for the worst case by the caller) and
   /// returns the number of nodes used.
   std::uint32_t run(std::uint32_t n, BvhBuildResult& out) {
-    buildNode(0, {0, n}, 0);
-    out.leaves = leaves_.load(std::memory_order_relaxed);
-    out.maxDepth = maxDepth_.load(std::memory_order_relaxed);
+    const Counts counts = buildNode(0, {0, n}, 0);
+    out.leaves = counts.leaves;
+    out.maxDepth = counts.maxDepth;
     return nextNode_.load(std::memory_order_relaxed);
   }
 
@@ -104,6 +104,17 @@ class Hierarchy {
   struct Range {
     std::uint32_t begin, end;
     std::uint32_t count() const { return end - begin; }
+  };
+
+  /// Leaf slots and deepest node level of a subtree, returned up the recursion rather than
+  /// counted in shared atomics that both threads would fight over.
+  struct Counts {
+    std::size_t leaves = 0;
+    std::size_t maxDepth = 0;
+    void merge(const Counts& o) {
+      leaves += o.leaves;
+      maxDepth = std::max(maxDepth, o.maxDepth);
+    }
   };
 
   /// Where a range splits: the first code with the highest bit in which the range's codes
@@ -120,11 +131,7 @@ class Hierarchy {
     return static_cast<std::uint32_t>(at - codes_);
   }
 
-  void buildNode(std::uint32_t index, Range range, int depth) {
-    std::size_t seen = maxDepth_.load(std::memory_order_relaxed);
-    while (seen < static_cast<std::size_t>(depth) &&
-           !maxDepth_.compare_exchange_weak(seen, static_cast<std::size_t>(depth))) {
-    }
+  Counts buildNode(std::uint32_t index, Range range, std::size_t depth) {
     // Open the range that must split and spans the largest cell of the code grid (the highest
     // differing bit; then the most primitives) until there are four: like the SAH builder's
     // widest child first, it keeps big boxes from sharing a node with small ones. Every child
@@ -157,13 +164,14 @@ class Hierarchy {
 
     Bvh4Node& node = nodes_[index];
     node = Bvh4Node::makeEmpty();
-    std::uint32_t leaves = 0;
+    Counts counts;
+    counts.maxDepth = depth;
     bool large = false;
     for (int c = 0; c < n; ++c) {
       if (ranges[c].count() <= maxLeaf_) {
         node.child[c] = ranges[c].begin;
         node.count[c] = ranges[c].count();
-        ++leaves;
+        ++counts.leaves;
       } else {
         // Children are numbered after their parent, which lets a refit run bottom-up by
         // walking the nodes backwards.
@@ -172,15 +180,17 @@ class Hierarchy {
         large = large || ranges[c].count() > options_.parallelThreshold;
       }
     }
-    leaves_.fetch_add(leaves, std::memory_order_relaxed);
-    const auto recurse = [&](int c) {
-      if (node.count[c] == 0) buildNode(node.child[c], ranges[c], depth + 1);
-    };
     if (large) {
-      tbb::parallel_for(0, n, recurse);
+      Counts children[4];
+      tbb::parallel_for(0, n, [&](int c) {
+        if (node.count[c] == 0) children[c] = buildNode(node.child[c], ranges[c], depth + 1);
+      });
+      for (int c = 0; c < n; ++c) counts.merge(children[c]);
     } else {
-      for (int c = 0; c < n; ++c) recurse(c);
+      for (int c = 0; c < n; ++c)
+        if (node.count[c] == 0) counts.merge(buildNode(node.child[c], ranges[c], depth + 1));
     }
+    return counts;
   }
 
   const std::uint32_t* codes_;
@@ -188,8 +198,6 @@ class Hierarchy {
   const std::uint32_t maxLeaf_;
   Bvh4NodeArray& nodes_;
   std::atomic<std::uint32_t> nextNode_{1};
-  std::atomic<std::size_t> leaves_{0};
-  std::atomic<std::size_t> maxDepth_{0};
 };
 
 }  // namespace
