@@ -213,6 +213,7 @@ void BvhAccel::refitFromMesh(const TriangleMesh& mesh) {
   const Vec3f* positions = mesh.positions.data();
   TriangleVertices* triangles = triangles_.data();
   const auto leaf = [&](std::uint32_t first, std::uint32_t count, TriangleSummary& acc) {
+    bool anyDegenerate = false;
     Box3f box;
     for (std::uint32_t k = first; k < first + count; ++k) {
       // Leaf order is Morton order, not mesh order: every triangle is a dependent gather
@@ -232,11 +233,20 @@ void BvhAccel::refitFromMesh(const TriangleMesh& mesh) {
       triangles[k].v1 = b;
       triangles[k].v2 = c;
       const Box3f t{min(min(a, b), c), max(max(a, b), c)};
-      box.extend(t);
       if (degenerate(a, b, c)) {
+        anyDegenerate = true;
         ++acc.degenerate;
-      } else {
-        acc.bounds.extend(t);
+      }
+      box.extend(t);
+    }
+    // The object's bounds leave degenerate triangles out: a leaf without any adds its box as
+    // a whole, the rare others triangle by triangle.
+    if (!anyDegenerate) {
+      acc.bounds.extend(box);
+    } else {
+      for (std::uint32_t k = first; k < first + count; ++k) {
+        const TriangleVertices& t = triangles[k];
+        if (!degenerate(t.v0, t.v1, t.v2)) acc.bounds.extend(boxOf(t));
       }
     }
     return box;
