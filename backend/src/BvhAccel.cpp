@@ -11,6 +11,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+
+#include "Bvh4Refit.h"
 
 namespace tg::detail {
 namespace {
@@ -18,6 +21,20 @@ namespace {
 /// Meshes with fewer triangles are prepared and refitted on the calling thread: below this,
 /// scheduling tasks costs more than it saves (the scene already builds objects in parallel).
 constexpr std::size_t kParallelTriangles = 8192;
+/// Top levels of a large tree whose children refit as parallel tasks: 4^2 subtrees keep two
+/// threads busy, however unevenly the triangles are spread.
+constexpr int kParallelRefitLevels = 2;
+/// Triangles ahead of the current one whose vertices the refit prefetches.
+constexpr std::size_t kPrefetchDistance = 8;
+
+/// Asks for the cache line holding `p` without waiting for it.
+inline void prefetch(const void* p) {
+#if defined(__GNUC__)
+  __builtin_prefetch(p);
+#else
+  (void)p;
+#endif
+}
 
 /// Degenerate count and bounds of the non-degenerate triangles, reduced over a mesh.
 struct TriangleSummary {
@@ -68,6 +85,26 @@ Box3f boxOf(const TriangleVertices& t) {
   return {min(min(t.v0, t.v1), t.v2), max(max(t.v0, t.v1), t.v2)};
 }
 
+/// True when one component of the float cross product of the edges is certainly non-zero in
+/// exact arithmetic. Each edge, product and difference adds one rounding (relative 2^-24), so the
+/// float component differs from the exact one by less than 2^-21 times the sum of its products'
+/// magnitudes; 2^-20 leaves a margin, and 2^-120 covers products that underflow. Infinite or
+/// NaN components never pass.
+inline bool certainlyNonDegenerate(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  const Vec3f e1 = b - a, e2 = c - a;
+  const auto nonZero = [](float p, float q) {
+    return std::abs(p - q) > 0x1p-20f * (std::abs(p) + std::abs(q)) + 0x1p-120f;
+  };
+  return nonZero(e1.y * e2.z, e1.z * e2.y) || nonZero(e1.z * e2.x, e1.x * e2.z) ||
+         nonZero(e1.x * e2.y, e1.y * e2.x);
+}
+
+/// isDegenerateTriangle with a float answer for the common case: the exact test in double costs
+/// as much as the rest of a refit's work on a triangle.
+inline bool degenerate(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  return !certainlyNonDegenerate(a, b, c) && isDegenerateTriangle(a, b, c);
+}
+
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
@@ -77,37 +114,41 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 
 void BvhAccel::build(const TriangleMesh& mesh) {
   const auto start = std::chrono::steady_clock::now();
-  const bool fast = kind_ == AccelKind::BvhFast;
-  const std::size_t n = mesh.triangleCount();
   stats_ = {};
-  stats_.triangles = n;
+  stats_.triangles = mesh.triangleCount();
+  if (kind_ == AccelKind::BvhFast) {
+    buildMorton(mesh);
+  } else {
+    buildSah(mesh);
+  }
+  stats_.buildSahCost = stats_.sahCost;
+  finishStats();
+  stats_.buildMs = millisecondsSince(start);
+}
 
-  // One primitive per triangle; degenerate ones are marked by an empty box for now.
+void BvhAccel::buildSah(const TriangleMesh& mesh) {
+  const std::size_t n = mesh.triangleCount();
+  // One primitive per non-degenerate triangle: degenerate ones can never be hit and would only
+  // cost tests. They are marked by an empty box, then left out.
   prims_.resize(n);
   const TriangleSummary summary = summarise(n, [&](std::size_t i, TriangleSummary& acc) {
     const TriangleVertices t = verticesOf(mesh, i);
     const bool degenerate = isDegenerateTriangle(t.v0, t.v1, t.v2);
     const Box3f box = boxOf(t);
-    prims_[i] = BvhPrim::make(degenerate && !fast ? Box3f{} : box, static_cast<std::uint32_t>(i));
+    prims_[i] = BvhPrim::make(degenerate ? Box3f{} : box, static_cast<std::uint32_t>(i));
     if (degenerate) {
       ++acc.degenerate;
     } else {
       acc.bounds.extend(box);
     }
   });
-  if (!fast && summary.degenerate != 0) {
-    // The SAH tree leaves degenerate triangles out: they can never be hit and would only cost
-    // tests. (The fast tree keeps them for refits; see BvhAccel.)
+  if (summary.degenerate != 0) {
     std::erase_if(prims_, [](const BvhPrim& p) { return p.lower[0] > p.upper[0]; });
   }
 
   BvhBuildOptions options;
   options.traversalCost = static_cast<float>(kTraversalCost);
   options.intersectionCost = static_cast<float>(kIntersectionCost);
-  if (fast) {
-    options.bins = 8;
-    options.allAxes = false;
-  }
   BvhBuildResult result;
   result.nodes.swap(nodes_);  // reuse the node memory of the previous build
   buildBvh4(prims_, options, result);
@@ -120,62 +161,109 @@ void BvhAccel::build(const TriangleMesh& mesh) {
     primIds_[k] = prims_[k].id;
     triangles_[k] = verticesOf(mesh, prims_[k].id);
   });
-  if (fast) {
-    indices_ = mesh.indices;
-  } else {
-    // A static tree is never refitted: keep neither the topology nor the build scratch.
-    std::vector<std::uint32_t>().swap(indices_);
-    std::vector<BvhPrim>().swap(prims_);
-  }
+  // A static tree is never refitted: keep neither the topology nor the build scratch.
+  std::vector<std::uint32_t>().swap(indices_);
+  std::vector<BvhPrim>().swap(prims_);
   bounds_ = summary.bounds;
   stats_.degenerate = summary.degenerate;
   stats_.leaves = result.leaves;
   stats_.maxDepth = result.maxDepth;
   stats_.primReferences = refs;
   stats_.sahCost = bvh4SahCost(nodes_, kTraversalCost, kIntersectionCost);
-  stats_.buildSahCost = stats_.sahCost;
-  finishStats();
-  stats_.buildMs = millisecondsSince(start);
+}
+
+void BvhAccel::buildMorton(const TriangleMesh& mesh) {
+  const std::size_t n = mesh.triangleCount();
+  // Every triangle takes part, degenerate ones included (see BvhAccel). The builder needs only
+  // the box centres (as lower + upper); boxes come from the refit pass below.
+  centroids_.resize(n);
+  forEachIndex(n, 4096, [&](std::size_t i) {
+    const TriangleVertices t = verticesOf(mesh, i);
+    centroids_[i] = min(min(t.v0, t.v1), t.v2) + max(max(t.v0, t.v1), t.v2);
+  });
+  BvhMortonOptions options;
+  // Two triangles per leaf at most: Morton leaves are looser than SAH leaves, and bigger ones
+  // cost more triangle tests than the node tests they save (BART robots and kitchen).
+  options.maxLeafSize = 2;
+  options.traversalCost = kTraversalCost;
+  options.intersectionCost = kIntersectionCost;
+  BvhBuildResult result;
+  result.nodes.swap(nodes_);  // reuse the node memory of the previous build
+  morton_.buildTopology(centroids_, options, primIds_, result);
+  nodes_.swap(result.nodes);
+  triangles_.resize(n);
+  indices_ = mesh.indices;
+  refitFromMesh(mesh);
+  stats_.leaves = result.leaves;
+  stats_.maxDepth = result.maxDepth;
+  stats_.primReferences = n;
 }
 
 bool BvhAccel::refit(const TriangleMesh& mesh) {
   if (kind_ != AccelKind::BvhFast || mesh.indices != indices_) return false;
   const auto start = std::chrono::steady_clock::now();
-  // New vertex copies in leaf order; the tree keeps its topology.
-  const TriangleSummary summary =
-      summarise(triangles_.size(), [&](std::size_t k, TriangleSummary& acc) {
-        const TriangleVertices t = verticesOf(mesh, primIds_[k]);
-        triangles_[k] = t;
-        if (isDegenerateTriangle(t.v0, t.v1, t.v2)) {
-          ++acc.degenerate;
-        } else {
-          acc.bounds.extend(boxOf(t));
-        }
-      });
-  // Leaf boxes, every node independently...
-  forEachIndex(nodes_.size(), 64, [&](std::size_t i) {
-    Bvh4Node& node = nodes_[i];
-    for (int s = 0; s < 4; ++s) {
-      if (node.count[s] == 0) continue;
-      Box3f box;
-      for (std::uint32_t k = node.child[s]; k < node.child[s] + node.count[s]; ++k)
-        box.extend(boxOf(triangles_[k]));
-      node.setBounds(s, box);
-    }
-  });
-  // ...then inner boxes bottom-up: children are numbered after their parents, so walking the
-  // array backwards sees every child before its parent.
-  for (std::size_t i = nodes_.size(); i-- > 0;) {
-    Bvh4Node& node = nodes_[i];
-    for (int s = 0; s < 4; ++s)
-      if (node.isInner(s)) node.setBounds(s, nodes_[node.child[s]].unionBounds());
-  }
-  bounds_ = summary.bounds;
-  stats_.degenerate = summary.degenerate;
-  stats_.sahCost = bvh4SahCost(nodes_, kTraversalCost, kIntersectionCost);
+  refitFromMesh(mesh);
   stats_.refitted = true;
   stats_.buildMs = millisecondsSince(start);
   return true;
+}
+
+void BvhAccel::refitFromMesh(const TriangleMesh& mesh) {
+  // One pass down the tree and back: each leaf copies its triangles' vertices (in leaf order)
+  // and returns their box, each node its children's union on the way up.
+  const std::size_t n = primIds_.size();
+  const std::uint32_t* ids = primIds_.data();
+  const std::uint32_t* indices = mesh.indices.data();
+  const Vec3f* positions = mesh.positions.data();
+  TriangleVertices* triangles = triangles_.data();
+  const auto leaf = [&](std::uint32_t first, std::uint32_t count, TriangleSummary& acc) {
+    bool anyDegenerate = false;
+    Box3f box;
+    for (std::uint32_t k = first; k < first + count; ++k) {
+      // Leaf order is Morton order, not mesh order: every triangle is a dependent gather
+      // (index, then vertices) that the hardware cannot predict. Fetching the indices two
+      // steps and the vertices one step ahead hides most of that latency.
+      if (k + 2 * kPrefetchDistance < n)
+        prefetch(indices + 3 * std::size_t{ids[k + 2 * kPrefetchDistance]});
+      if (k + kPrefetchDistance < n) {
+        const std::uint32_t* ahead = indices + 3 * std::size_t{ids[k + kPrefetchDistance]};
+        prefetch(positions + ahead[0]);
+        prefetch(positions + ahead[1]);
+        prefetch(positions + ahead[2]);
+      }
+      const std::uint32_t* idx = indices + 3 * std::size_t{ids[k]};
+      const Vec3f a = positions[idx[0]], b = positions[idx[1]], c = positions[idx[2]];
+      triangles[k].v0 = a;
+      triangles[k].v1 = b;
+      triangles[k].v2 = c;
+      const Box3f t{min(min(a, b), c), max(max(a, b), c)};
+      if (degenerate(a, b, c)) {
+        anyDegenerate = true;
+        ++acc.degenerate;
+      }
+      box.extend(t);
+    }
+    // The object's bounds leave degenerate triangles out: a leaf without any adds its box as
+    // a whole, the rare others triangle by triangle.
+    if (!anyDegenerate) {
+      acc.bounds.extend(box);
+    } else {
+      for (std::uint32_t k = first; k < first + count; ++k) {
+        const TriangleVertices& t = triangles[k];
+        if (!degenerate(t.v0, t.v1, t.v2)) acc.bounds.extend(boxOf(t));
+      }
+    }
+    return box;
+  };
+  TriangleSummary summary;
+  Bvh4SahSum sum;
+  const Box3f root =
+      nodes_.empty() ? Box3f{}
+                     : refitBvh4(nodes_, 0, leaf, kTraversalCost, kIntersectionCost,
+                                 n < kParallelTriangles ? 0 : kParallelRefitLevels, sum, summary);
+  stats_.sahCost = nodes_.empty() ? 0.0 : sum.finish(root, kTraversalCost);
+  bounds_ = summary.bounds;
+  stats_.degenerate = summary.degenerate;
 }
 
 void BvhAccel::finishStats() {
@@ -184,7 +272,8 @@ void BvhAccel::finishStats() {
   stats_.bytes = nodes_.capacity() * sizeof(Bvh4Node) +
                  triangles_.capacity() * sizeof(TriangleVertices) +
                  primIds_.capacity() * sizeof(std::uint32_t) +
-                 indices_.capacity() * sizeof(std::uint32_t) + prims_.capacity() * sizeof(BvhPrim);
+                 indices_.capacity() * sizeof(std::uint32_t) + prims_.capacity() * sizeof(BvhPrim) +
+                 centroids_.capacity() * sizeof(Vec3f) + morton_.scratchBytes();
 }
 
 bool BvhAccel::intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) const {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "BvhBuilder.h"
+#include "BvhMortonBuilder.h"
 #include "tracegraph/backend/KdTree.h"
 #include "tracegraph/backend/ObjectAccel.h"
 
@@ -15,8 +16,8 @@ namespace tg::detail {
 /// found them.
 ///
 /// AccelKind::Bvh: 32-bin SAH over all axes, degenerate triangles left out; no refit.
-/// AccelKind::BvhFast: 8 bins along the widest axis, degenerate triangles kept in the tree (the
-/// watertight test never hits them) so that a later refit finds every triangle when a
+/// AccelKind::BvhFast: Morton-code build (BvhMortonBuilder), degenerate triangles kept in the
+/// tree (the watertight test never hits them) so that a later refit finds every triangle when a
 /// degenerate one opens up again (hard case 19); refit() supported.
 class BvhAccel final : public ObjectAccel {
  public:
@@ -59,6 +60,13 @@ class BvhAccel final : public ObjectAccel {
   static constexpr double kTraversalCost = 1.0;
   static constexpr double kIntersectionCost = 1.0;
 
+  /// AccelKind::Bvh: binned SAH without the degenerate triangles.
+  void buildSah(const TriangleMesh& mesh);
+  /// AccelKind::BvhFast: Morton build over every triangle.
+  void buildMorton(const TriangleMesh& mesh);
+  /// Copies the triangles of `mesh` into leaf order and recomputes every box, the bounds, the
+  /// degenerate count and the SAH cost: the second half of a Morton build and all of a refit.
+  void refitFromMesh(const TriangleMesh& mesh);
   void finishStats();
 
   AccelKind kind_;
@@ -66,7 +74,9 @@ class BvhAccel final : public ObjectAccel {
   std::vector<TriangleVertices> triangles_;  ///< in leaf order
   std::vector<std::uint32_t> primIds_;       ///< mesh triangle index of each triangles_ entry
   std::vector<std::uint32_t> indices_;       ///< mesh indices at the last build (refit check)
-  std::vector<BvhPrim> prims_;               ///< build scratch, kept between builds
+  std::vector<BvhPrim> prims_;               ///< SAH build scratch
+  std::vector<Vec3f> centroids_;             ///< Morton build scratch: lower + upper per box
+  BvhMortonBuilder morton_;                  ///< Morton build scratch, kept between builds
   Box3f bounds_;
   BuildStats stats_;
 };

@@ -131,6 +131,7 @@ class Builder {
     out_.leaves = 0;
     out_.maxDepth = 0;
     out_.bounds = Box3f{};
+    out_.sahCost = -1.0;
     if (prims_.empty()) {
       out_.nodes.clear();
       return;

@@ -61,6 +61,9 @@ struct BvhBuildResult {
   std::size_t maxDepth = 0;
   /// Bounds of all primitives.
   Box3f bounds;
+  /// bvh4SahCost of the nodes with the builder's SAH weights, when the builder gathers it on
+  /// the way (the Morton builder); negative otherwise.
+  double sahCost = -1.0;
 };
 
 /// Builds a BVH4 over `prims` and reorders them so that every leaf's primitives are contiguous:

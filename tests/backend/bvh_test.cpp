@@ -396,6 +396,40 @@ BOOST_AUTO_TEST_CASE(degenerate_triangles_never_hit) {
   }
 }
 
+BOOST_AUTO_TEST_CASE(nearly_degenerate_triangles_are_classified_exactly) {
+  // The refittable tree classifies degenerate triangles with a float shortcut: slivers one ulp
+  // off a line, tiny and huge coordinates (underflowing and overflowing products) must be
+  // counted exactly as the exact test counts them, at build and at refit. (Coordinates stay
+  // finite: the binned SAH builder does not take infinite vertices.)
+  TriangleMesh m;
+  const float ulp = std::nextafter(2.0f, 3.0f);
+  const float scales[] = {1.0f, 1e-20f, 1e-38f, 1e15f, 1e30f, 1e38f};
+  for (float s : scales) {
+    const std::vector<Vec3f> tri[] = {
+        {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}},        // collinear
+        {{0, 0, 0}, {1, 1, 1}, {2, 2, ulp}},      // one ulp off the line
+        {{1, 1, 1}, {1, 1, 1}, {2, 3, 4}},        // repeated vertex
+        {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},        // a real triangle
+        {{-1, 2, 0}, {1, -2, 0}, {3, -6, 0.0f}},  // collinear through the origin
+    };
+    for (const auto& t : tri) {
+      for (const Vec3f& p : t) {
+        m.positions.push_back(p * s);
+        m.indices.push_back(static_cast<std::uint32_t>(m.indices.size()));
+      }
+    }
+  }
+  std::size_t expected = 0;
+  for (std::size_t i = 0; i < m.indices.size(); i += 3)
+    expected += isDegenerateTriangle(m.positions[i], m.positions[i + 1], m.positions[i + 2]);
+  BOOST_TEST(expected >= 2 * std::size(scales));
+  const auto fast = built(AccelKind::BvhFast, m);
+  BOOST_TEST(fast->stats().degenerate == expected);
+  BOOST_TEST(built(AccelKind::Bvh, m)->stats().degenerate == expected);
+  BOOST_TEST(fast->refit(m));
+  BOOST_TEST(fast->stats().degenerate == expected);
+}
+
 BOOST_AUTO_TEST_CASE(zero_and_negative_zero_direction_components) {
   for (AccelKind kind : kBvhKinds) {
     for (TopLevelKind topLevel : kTopLevels) {

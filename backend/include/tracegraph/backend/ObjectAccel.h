@@ -19,7 +19,7 @@ enum class AccelKind : std::uint8_t {
   SahKdTree,   ///< high-quality SAH kd-tree, O(n log n) build (static and rigid objects)
   FastKdTree,  ///< the paper's fast kd-tree for deforming objects (spatial median splits)
   Bvh,         ///< 4-wide BVH from a parallel binned-SAH builder (static and rigid objects)
-  BvhFast,     ///< 4-wide BVH from a quick binned builder, refittable (deforming objects)
+  BvhFast,     ///< 4-wide BVH from a Morton-code (linear) builder, refittable (deforming objects)
 };
 
 /// Name used in statistics and benchmark rows ("sah-kd", "fast-kd", "bvh", "bvh-fast").

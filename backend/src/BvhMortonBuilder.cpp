@@ -1,0 +1,369 @@
+// Morton-code BVH4 construction: centroid codes, a stable radix sort, and a top-down split of
+// the sorted codes at their highest differing bit, four ranges per node.
+#include "BvhMortonBuilder.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <limits>
+
+#include "Bvh4Refit.h"
+
+namespace tg::detail {
+namespace {
+
+/// Loops over fewer elements run on the calling thread: below this, scheduling tasks costs
+/// more than it saves.
+constexpr std::size_t kParallelElements = 16384;
+/// The radix sort cuts large inputs into at most this many blocks of at least
+/// kParallelElements keys. The cut depends only on the input size, and the sort is stable
+/// whatever the cut, so the order never depends on the thread count.
+constexpr std::size_t kMaxSortBlocks = 8;
+/// Bits per radix digit: three passes cover the 30-bit codes, stored above the 32-bit index.
+constexpr int kDigitBits = 10;
+constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
+/// Quantisation cells per axis (10 bits each).
+constexpr float kCells = 1024.0f;
+/// Top levels of a large tree whose boxes are gathered as parallel tasks (4^2 subtrees).
+constexpr int kParallelRefitLevels = 2;
+
+template <class Fn>
+void forRange(std::size_t n, Fn&& fn) {
+  if (n < kParallelElements) {
+    fn(std::size_t{0}, n);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+                    [&](const tbb::blocked_range<std::size_t>& r) { fn(r.begin(), r.end()); });
+}
+
+/// Spreads the low 10 bits of v so that two zero bits follow each.
+inline std::uint32_t spreadBits(std::uint32_t v) {
+  v &= 0x3FFu;
+  v = (v * 0x00010001u) & 0xFF0000FFu;
+  v = (v * 0x00000101u) & 0x0F00F00Fu;
+  v = (v * 0x00000011u) & 0xC30C30C3u;
+  v = (v * 0x00000005u) & 0x49249249u;
+  return v;
+}
+
+/// Cell of a centroid coordinate. Clamping in float first keeps the conversion defined for any
+/// input: a NaN (the centroid of an empty box) or an overflowing product lands in cell 0 or the
+/// last cell.
+inline std::uint32_t cellOf(float c, float lower, float scale) {
+  float f = (c - lower) * scale;
+  f = f > 0.0f ? f : 0.0f;
+  f = f < kCells - 1.0f ? f : kCells - 1.0f;
+  return static_cast<std::uint32_t>(f);
+}
+
+/// Bounds of the centroids, written so that a NaN component (the centroid of an empty box)
+/// leaves them as they are.
+struct CentroidBounds {
+  float lower[3] = {kInf, kInf, kInf};
+  float upper[3] = {-kInf, -kInf, -kInf};
+  static constexpr float kInf = std::numeric_limits<float>::infinity();
+
+  void add(const Vec3f& c) {
+    for (int a = 0; a < 3; ++a) {
+      lower[a] = c[a] < lower[a] ? c[a] : lower[a];
+      upper[a] = c[a] > upper[a] ? c[a] : upper[a];
+    }
+  }
+  void merge(const CentroidBounds& o) {
+    for (int a = 0; a < 3; ++a) {
+      lower[a] = std::min(lower[a], o.lower[a]);
+      upper[a] = std::max(upper[a], o.upper[a]);
+    }
+  }
+};
+
+/// The top-down pass over the sorted codes: creates the nodes, slot boxes left empty.
+class Hierarchy {
+ public:
+  Hierarchy(const std::uint32_t* codes, const BvhMortonOptions& options, Bvh4NodeArray& nodes)
+      : codes_(codes),
+        options_(options),
+        maxLeaf_(std::max<std::uint32_t>(options.maxLeafSize, 1)),
+        nodes_(nodes) {}
+
+  /// Builds the tree over [0, n) into nodes (sized for the worst case by the caller) and
+  /// returns the number of nodes used.
+  std::uint32_t run(std::uint32_t n, BvhBuildResult& out) {
+    const Counts counts = buildNode(0, {0, n}, 0);
+    out.leaves = counts.leaves;
+    out.maxDepth = counts.maxDepth;
+    return nextNode_.load(std::memory_order_relaxed);
+  }
+
+ private:
+  struct Range {
+    std::uint32_t begin, end;
+    std::uint32_t count() const { return end - begin; }
+  };
+
+  /// Leaf slots and deepest node level of a subtree, returned up the recursion rather than
+  /// counted in shared atomics that both threads would fight over.
+  struct Counts {
+    std::size_t leaves = 0;
+    std::size_t maxDepth = 0;
+    void merge(const Counts& o) {
+      leaves += o.leaves;
+      maxDepth = std::max(maxDepth, o.maxDepth);
+    }
+  };
+
+  /// Where a range splits: the first code with the highest bit in which the range's codes
+  /// differ, or the middle when all codes are equal (which halves the range, so equal codes add
+  /// at most log2(n) levels).
+  std::uint32_t split(const Range& r) const {
+    const std::uint32_t first = codes_[r.begin], last = codes_[r.end - 1];
+    if (first == last) return r.begin + r.count() / 2;
+    const std::uint32_t bit = std::uint32_t{1} << (std::bit_width(first ^ last) - 1);
+    // The codes share every bit above `bit`, so those with it clear come first. codes_[begin]
+    // has it clear and codes_[end - 1] set: the split lies in [begin + 1, end - 1].
+    const std::uint32_t* at = std::partition_point(codes_ + r.begin + 1, codes_ + r.end - 1,
+                                                   [bit](std::uint32_t c) { return !(c & bit); });
+    return static_cast<std::uint32_t>(at - codes_);
+  }
+
+  Counts buildNode(std::uint32_t index, Range range, std::size_t depth) {
+    // Open the range that must split and spans the largest cell of the code grid (the highest
+    // differing bit; then the most primitives) until there are four: like the SAH builder's
+    // widest child first, it keeps big boxes from sharing a node with small ones. Every child
+    // range is at least one binary level below this node's, so the BVH4 is no deeper than the
+    // binary tree.
+    Range ranges[4] = {range, {}, {}, {}};
+    int n = 1;
+    while (n < 4) {
+      int largest = -1;
+      std::uint64_t largestKey = 0;
+      for (int c = 0; c < n; ++c) {
+        if (ranges[c].count() <= maxLeaf_) continue;
+        const std::uint64_t key =
+            (std::uint64_t{codes_[ranges[c].begin] ^ codes_[ranges[c].end - 1]} << 32) |
+            ranges[c].count();
+        if (key > largestKey) {
+          largestKey = key;
+          largest = c;
+        }
+      }
+      if (largest < 0) break;
+      const Range parent = ranges[largest];
+      const std::uint32_t mid = split(parent);
+      // Keep the slots in code order: neighbours on the curve stay neighbours in memory.
+      for (int c = n; c > largest + 1; --c) ranges[c] = ranges[c - 1];
+      ranges[largest] = {parent.begin, mid};
+      ranges[largest + 1] = {mid, parent.end};
+      ++n;
+    }
+
+    Bvh4Node& node = nodes_[index];
+    node = Bvh4Node::makeEmpty();
+    Counts counts;
+    counts.maxDepth = depth;
+    bool large = false;
+    for (int c = 0; c < n; ++c) {
+      if (ranges[c].count() <= maxLeaf_) {
+        node.child[c] = ranges[c].begin;
+        node.count[c] = ranges[c].count();
+        ++counts.leaves;
+      } else {
+        // Children are numbered after their parent, which lets a refit run bottom-up by
+        // walking the nodes backwards.
+        node.child[c] = nextNode_.fetch_add(1, std::memory_order_relaxed);
+        node.count[c] = 0;
+        large = large || ranges[c].count() > options_.parallelThreshold;
+      }
+    }
+    if (large) {
+      Counts children[4];
+      tbb::parallel_for(0, n, [&](int c) {
+        if (node.count[c] == 0) children[c] = buildNode(node.child[c], ranges[c], depth + 1);
+      });
+      for (int c = 0; c < n; ++c) counts.merge(children[c]);
+    } else {
+      for (int c = 0; c < n; ++c)
+        if (node.count[c] == 0) counts.merge(buildNode(node.child[c], ranges[c], depth + 1));
+    }
+    return counts;
+  }
+
+  const std::uint32_t* codes_;
+  const BvhMortonOptions& options_;
+  const std::uint32_t maxLeaf_;
+  Bvh4NodeArray& nodes_;
+  std::atomic<std::uint32_t> nextNode_{1};
+};
+
+}  // namespace
+
+void BvhMortonBuilder::build(std::span<const Box3f> boxes, const BvhMortonOptions& options,
+                             std::vector<std::uint32_t>& order, BvhBuildResult& out) {
+  const std::size_t n = boxes.size();
+  centroids_.resize(n);
+  forRange(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) centroids_[i] = boxes[i].lower + boxes[i].upper;
+  });
+  buildTopology(centroids_, options, order, out);
+  if (out.nodes.empty()) return;
+  Bvh4SahSum sum;
+  NoLeafData none;
+  out.bounds = refitBvh4(
+      out.nodes, 0,
+      [&](std::uint32_t first, std::uint32_t count, NoLeafData&) {
+        Box3f box;
+        for (std::uint32_t k = first; k < first + count; ++k) box.extend(boxes[order[k]]);
+        return box;
+      },
+      options.traversalCost, options.intersectionCost,
+      n > options.parallelThreshold ? kParallelRefitLevels : 0, sum, none);
+  out.sahCost = sum.finish(out.bounds, options.traversalCost);
+}
+
+void BvhMortonBuilder::buildTopology(std::span<const Vec3f> centroids,
+                                     const BvhMortonOptions& options,
+                                     std::vector<std::uint32_t>& order, BvhBuildResult& out) {
+  const std::size_t n = centroids.size();
+  out.leaves = 0;
+  out.maxDepth = 0;
+  out.bounds = Box3f{};
+  out.sahCost = -1.0;
+  order.resize(n);
+  if (n == 0) {
+    out.nodes.clear();
+    return;
+  }
+  computeKeys(centroids);
+  sortKeys();
+  codes_.resize(n);
+  forRange(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      order[k] = static_cast<std::uint32_t>(keys_[k]);
+      codes_[k] = static_cast<std::uint32_t>(keys_[k] >> 32);
+    }
+  });
+  // Every inner node has at least two children, except a root that is a single leaf, so there
+  // are at most as many nodes as primitives.
+  out.nodes.resize(n);
+  Hierarchy hierarchy(codes_.data(), options, out.nodes);
+  out.nodes.resize(hierarchy.run(static_cast<std::uint32_t>(n), out));
+}
+
+void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids) {
+  const std::size_t n = centroids.size();
+  CentroidBounds cb;
+  if (n < kParallelElements) {
+    for (const Vec3f& c : centroids) cb.add(c);
+  } else {
+    cb = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, n, 4096), CentroidBounds{},
+        [&](const tbb::blocked_range<std::size_t>& r, CentroidBounds acc) {
+          for (std::size_t i = r.begin(); i != r.end(); ++i) acc.add(centroids[i]);
+          return acc;
+        },
+        [](CentroidBounds a, const CentroidBounds& b) {
+          a.merge(b);
+          return a;
+        });
+  }
+  float scale[3];
+  for (int a = 0; a < 3; ++a) {
+    // No extent (all centroids in one plane), no finite centroid or an overflowing extent:
+    // the axis contributes nothing to the code.
+    const float extent = cb.upper[a] - cb.lower[a];
+    scale[a] = extent > 0.0f && extent < CentroidBounds::kInf ? kCells / extent : 0.0f;
+  }
+  keys_.resize(n);
+  forRange(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      std::uint32_t code = 0;
+      for (int a = 0; a < 3; ++a) {
+        const std::uint32_t cell = cellOf(centroids[i][a], cb.lower[a], scale[a]);
+        code |= spreadBits(cell) << (2 - a);
+      }
+      keys_[i] = (std::uint64_t{code} << 32) | i;
+    }
+  });
+}
+
+void BvhMortonBuilder::sortKeys() {
+  const std::size_t n = keys_.size();
+  const std::size_t blocks = std::clamp<std::size_t>(n / kParallelElements, 1, kMaxSortBlocks);
+  const std::size_t blockSize = (n + blocks - 1) / blocks;
+  scratch_.resize(n);
+  histogram_.resize(blocks * kDigits);
+  const auto forBlocks = [&](auto&& fn) {
+    if (blocks == 1) {
+      fn(std::size_t{0});
+      return;
+    }
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, blocks, 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t b = r.begin(); b != r.end(); ++b) fn(b);
+        },
+        tbb::simple_partitioner());
+  };
+  // Least significant digit first; each pass is stable (blocks in order, keys in order within a
+  // block), so equal codes keep their index order.
+  for (int shift = 32; shift < 32 + 30; shift += kDigitBits) {
+    const std::uint64_t* src = keys_.data();
+    std::uint64_t* dst = scratch_.data();
+    forBlocks([&](std::size_t b) {
+      std::uint32_t* h = histogram_.data() + b * kDigits;
+      std::fill(h, h + kDigits, 0u);
+      const std::size_t end = std::min(n, (b + 1) * blockSize);
+      for (std::size_t i = b * blockSize; i < end; ++i) ++h[(src[i] >> shift) & (kDigits - 1)];
+    });
+    // A digit shared by every key (common for small or clustered inputs) moves nothing.
+    bool trivial = false;
+    for (std::size_t d = 0; d < kDigits && !trivial; ++d) {
+      std::size_t total = 0;
+      for (std::size_t b = 0; b < blocks; ++b) total += histogram_[b * kDigits + d];
+      trivial = total == n;
+      if (total != 0) break;
+    }
+    if (trivial) continue;
+    // Exclusive offsets, digit-major then block order.
+    std::uint32_t offset = 0;
+    for (std::size_t d = 0; d < kDigits; ++d) {
+      for (std::size_t b = 0; b < blocks; ++b) {
+        std::uint32_t& h = histogram_[b * kDigits + d];
+        const std::uint32_t count = h;
+        h = offset;
+        offset += count;
+      }
+    }
+    forBlocks([&](std::size_t b) {
+      std::uint32_t* h = histogram_.data() + b * kDigits;
+      const std::size_t end = std::min(n, (b + 1) * blockSize);
+      for (std::size_t i = b * blockSize; i < end; ++i)
+        dst[h[(src[i] >> shift) & (kDigits - 1)]++] = src[i];
+    });
+    keys_.swap(scratch_);
+  }
+}
+
+void buildBvh4Morton(std::vector<BvhPrim>& prims, const BvhBuildOptions& options,
+                     BvhBuildResult& out) {
+  std::vector<Box3f> boxes(prims.size());
+  for (std::size_t i = 0; i < prims.size(); ++i) boxes[i] = prims[i].box();
+  BvhMortonOptions mortonOptions;
+  mortonOptions.maxLeafSize = options.maxLeafSize;
+  mortonOptions.parallelThreshold = options.parallelThreshold;
+  mortonOptions.traversalCost = options.traversalCost;
+  mortonOptions.intersectionCost = options.intersectionCost;
+  std::vector<std::uint32_t> order;
+  BvhMortonBuilder builder;
+  builder.build(boxes, mortonOptions, order, out);
+  std::vector<BvhPrim> sorted(prims.size());
+  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = prims[order[k]];
+  prims.swap(sorted);
+}
+
+}  // namespace tg::detail

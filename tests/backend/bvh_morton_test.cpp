@@ -1,0 +1,353 @@
+// The Morton-code BVH4 builder on its own: tree structure (every primitive in exactly one leaf,
+// boxes that enclose, bounded depth), awkward inputs (no primitive, one, all centroids equal,
+// empty and point boxes), independence from the thread count, and the bottom-up refit.
+#define BOOST_TEST_MODULE bvh_morton
+#include <boost/test/unit_test.hpp>
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "Bvh4Refit.h"
+#include "BvhMortonBuilder.h"
+
+using namespace tg;
+using namespace tg::detail;
+
+namespace {
+
+/// What a walk from the root found.
+struct TreeCheck {
+  std::size_t nodesVisited = 0;
+  std::size_t leaves = 0;
+  std::size_t maxDepth = 0;
+  std::size_t errors = 0;
+  std::string firstError;
+};
+
+void fail(TreeCheck& c, const std::string& what) {
+  if (c.errors++ == 0) c.firstError = what;
+}
+
+bool encloses(const Box3f& outer, const Box3f& inner) {
+  if (inner.empty()) return true;
+  return outer.contains(inner);
+}
+
+/// Checks the subtree of node `index` at `depth` against the primitive boxes in leaf order and
+/// returns the union of its slots. `seen` counts how often each leaf position is referenced.
+Box3f walk(const Bvh4NodeArray& nodes, std::uint32_t index, std::size_t depth,
+           const std::vector<Box3f>& boxes, std::uint32_t maxLeaf, std::vector<int>& seen,
+           TreeCheck& c) {
+  ++c.nodesVisited;
+  c.maxDepth = std::max(c.maxDepth, depth);
+  const Bvh4Node& node = nodes[index];
+  Box3f all;
+  int used = 0;
+  for (int s = 0; s < 4; ++s) {
+    const Box3f slot = node.slotBounds(s);
+    if (node.child[s] == kInvalidId) {
+      if (node.count[s] != 0 || !slot.empty()) fail(c, "unused slot with a box or count");
+      continue;
+    }
+    ++used;
+    if (node.count[s] != 0) {
+      ++c.leaves;
+      if (node.count[s] > maxLeaf) fail(c, "leaf above the size limit");
+      if (std::size_t{node.child[s]} + node.count[s] > boxes.size()) {
+        fail(c, "leaf beyond the primitives");
+        continue;
+      }
+      for (std::uint32_t k = node.child[s]; k < node.child[s] + node.count[s]; ++k) {
+        ++seen[k];
+        if (!encloses(slot, boxes[k])) fail(c, "leaf box misses a primitive");
+      }
+    } else {
+      if (node.child[s] <= index || node.child[s] >= nodes.size()) {
+        fail(c, "child not numbered after its parent");
+        continue;
+      }
+      const Box3f child = walk(nodes, node.child[s], depth + 1, boxes, maxLeaf, seen, c);
+      if (!encloses(slot, child)) fail(c, "inner box misses its child");
+    }
+    all.extend(slot);
+  }
+  if (used == 0) fail(c, "node without children");
+  if (used == 1 && index != 0) fail(c, "inner node with a single child");
+  return all;
+}
+
+/// Builds over `boxes` and checks the structure; returns the checked result.
+BvhBuildResult buildAndCheck(const std::vector<Box3f>& boxes, std::uint32_t maxLeaf,
+                             std::vector<std::uint32_t>& order, const std::string& label) {
+  BvhMortonOptions options;
+  options.maxLeafSize = maxLeaf;
+  BvhMortonBuilder builder;
+  BvhBuildResult out;
+  builder.build(boxes, options, order, out);
+  BOOST_TEST_REQUIRE(order.size() == boxes.size(), label);
+  // `order` is a permutation of the primitive indices.
+  std::vector<int> hit(boxes.size(), 0);
+  for (std::uint32_t id : order) {
+    BOOST_TEST_REQUIRE(id < boxes.size(), label);
+    ++hit[id];
+  }
+  BOOST_TEST(std::count(hit.begin(), hit.end(), 1) == static_cast<long>(boxes.size()), label);
+  if (boxes.empty()) {
+    BOOST_TEST(out.nodes.empty(), label);
+    BOOST_TEST(out.leaves == 0u, label);
+    return out;
+  }
+  std::vector<Box3f> sorted(boxes.size());
+  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = boxes[order[k]];
+  std::vector<int> seen(boxes.size(), 0);
+  TreeCheck c;
+  const Box3f root = walk(out.nodes, 0, 0, sorted, maxLeaf, seen, c);
+  BOOST_TEST(c.errors == 0u, label << ": " << c.firstError);
+  BOOST_TEST(std::count(seen.begin(), seen.end(), 1) == static_cast<long>(boxes.size()),
+             label << ": every primitive in exactly one leaf");
+  BOOST_TEST(c.nodesVisited == out.nodes.size(), label << ": every node reachable");
+  BOOST_TEST(c.leaves == out.leaves, label);
+  BOOST_TEST(c.maxDepth == out.maxDepth, label);
+  BOOST_TEST(out.maxDepth < static_cast<std::size_t>(kBvh4MaxDepth), label);
+  BOOST_TEST((root == out.bounds), label);
+  // The cost gathered during the build is the one bvh4SahCost computes (summed in another
+  // order, hence the tolerance).
+  const double walked = bvh4SahCost(out.nodes, options.traversalCost, options.intersectionCost);
+  BOOST_TEST(std::abs(out.sahCost - walked) <= 1e-9 * walked, label);
+  return out;
+}
+
+std::vector<Box3f> randomBoxes(std::mt19937& rng, std::size_t n, float size) {
+  std::uniform_real_distribution<float> pos(-100.0f, 100.0f), ext(0.0f, size);
+  std::vector<Box3f> boxes(n);
+  for (Box3f& b : boxes) {
+    const Vec3f lo{pos(rng), pos(rng), pos(rng)};
+    b = {lo, lo + Vec3f{ext(rng), ext(rng), ext(rng)}};
+  }
+  return boxes;
+}
+
+/// Structural equality of two trees walked from their roots (node numbering may differ).
+bool sameTree(const Bvh4NodeArray& a, std::uint32_t ia, const Bvh4NodeArray& b, std::uint32_t ib) {
+  const Bvh4Node &x = a[ia], &y = b[ib];
+  for (int s = 0; s < 4; ++s) {
+    if (!(x.slotBounds(s) == y.slotBounds(s)) || x.count[s] != y.count[s]) return false;
+    if ((x.child[s] == kInvalidId) != (y.child[s] == kInvalidId)) return false;
+    if (x.child[s] == kInvalidId) continue;
+    if (x.count[s] != 0) {
+      if (x.child[s] != y.child[s]) return false;
+    } else if (!sameTree(a, x.child[s], b, y.child[s])) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(random_boxes_give_valid_trees) {
+  std::mt19937 rng(1);
+  std::vector<std::uint32_t> order;
+  for (std::size_t n : {2u, 3u, 4u, 5u, 17u, 1000u, 50000u}) {
+    for (std::uint32_t maxLeaf : {1u, 4u}) {
+      const BvhBuildResult r =
+          buildAndCheck(randomBoxes(rng, n, 3.0f), maxLeaf, order, "n=" + std::to_string(n));
+      // Well spread boxes make a shallow tree: about log4(n) levels, not log2(n).
+      BOOST_TEST(r.maxDepth <= 2 * static_cast<std::size_t>(std::log2(double(n)) / 2.0 + 3));
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(no_primitive_and_one_primitive) {
+  std::vector<std::uint32_t> order{7, 8, 9};
+  buildAndCheck({}, 4, order, "empty");
+  const Box3f one{{1, 2, 3}, {4, 5, 6}};
+  const BvhBuildResult r = buildAndCheck({one}, 4, order, "single");
+  BOOST_TEST_REQUIRE(r.nodes.size() == 1u);
+  BOOST_TEST(r.nodes[0].count[0] == 1u);
+  BOOST_TEST(r.nodes[0].child[0] == 0u);
+  BOOST_TEST((r.nodes[0].slotBounds(0) == one));
+  BOOST_TEST(r.leaves == 1u);
+  // A builder reused for an empty input forgets the previous tree.
+  BvhMortonBuilder builder;
+  BvhBuildResult out;
+  builder.build(std::vector<Box3f>{one, one}, BvhMortonOptions{}, order, out);
+  BOOST_TEST(out.nodes.size() == 1u);
+  builder.build(std::vector<Box3f>{}, BvhMortonOptions{}, order, out);
+  BOOST_TEST(out.nodes.empty());
+  BOOST_TEST(order.empty());
+}
+
+BOOST_AUTO_TEST_CASE(identical_centroids_stay_within_the_depth_bound) {
+  // 100k equal codes split at the middle: about log4(100000 / 4) levels, far below the bound
+  // that sizes the traversal stack.
+  std::vector<std::uint32_t> order;
+  const std::vector<Box3f> same(100000, Box3f{{1, 1, 1}, {2, 2, 2}});
+  const BvhBuildResult r = buildAndCheck(same, 4, order, "identical boxes");
+  BOOST_TEST(r.maxDepth <= 10u);
+  // Halving never leaves fewer than half of maxLeafSize in a leaf.
+  BOOST_TEST(r.leaves <= 50000u);
+  // Same centre, different sizes: still one code.
+  std::vector<Box3f> nested(100000);
+  for (std::size_t i = 0; i < nested.size(); ++i) {
+    const float h = 1.0f + static_cast<float>(i % 97);
+    nested[i] = {{-h, -h, -h}, {h, h, h}};
+  }
+  BOOST_TEST(buildAndCheck(nested, 4, order, "nested boxes").maxDepth <= 10u);
+}
+
+BOOST_AUTO_TEST_CASE(worst_case_codes_stay_within_the_depth_bound) {
+  // Centroids at 2^-k along one axis: every split by code peels off one primitive, the deepest
+  // a binary radix tree of 30-bit codes can get, followed by equal codes split at the middle.
+  std::vector<Box3f> boxes;
+  for (int k = 0; k < 40; ++k) {
+    const float x = std::ldexp(1.0f, -k);
+    for (int copy = 0; copy < 200; ++copy) boxes.push_back({{x, 0, 0}, {x, 0, 0}});
+  }
+  std::vector<std::uint32_t> order;
+  const BvhBuildResult r = buildAndCheck(boxes, 1, order, "geometric");
+  BOOST_TEST(r.maxDepth < static_cast<std::size_t>(kBvh4MaxDepth));
+}
+
+BOOST_AUTO_TEST_CASE(empty_point_and_flat_boxes) {
+  std::mt19937 rng(2);
+  std::vector<Box3f> boxes = randomBoxes(rng, 3000, 2.0f);
+  std::uniform_int_distribution<int> kind(0, 4);
+  for (Box3f& b : boxes) {
+    switch (kind(rng)) {
+      case 0:
+        b = Box3f{};
+        break;  // empty (never widens a node)
+      case 1:
+        b.upper = b.lower;
+        break;  // a point
+      case 2:
+        b.upper.z = b.lower.z = 5.0f;
+        break;  // flat
+      default:
+        break;
+    }
+  }
+  std::vector<std::uint32_t> order;
+  buildAndCheck(boxes, 4, order, "mixed");
+  // Only empty boxes: nothing to quantise, still one tree over all of them.
+  const BvhBuildResult r = buildAndCheck(std::vector<Box3f>(37, Box3f{}), 4, order, "all empty");
+  BOOST_TEST(r.bounds.empty());
+  // All in one plane, and all on one line.
+  std::vector<Box3f> plane = randomBoxes(rng, 5000, 0.0f), line = plane;
+  for (Box3f& b : plane) b.lower.y = b.upper.y = 0.0f;
+  for (Box3f& b : line) b.lower.x = b.upper.x = b.lower.y = b.upper.y = 0.0f;
+  buildAndCheck(plane, 4, order, "plane");
+  buildAndCheck(line, 4, order, "line");
+  // Far apart clusters: the codes put each in its own subtree.
+  std::vector<Box3f> clusters = randomBoxes(rng, 4000, 1.0f);
+  for (std::size_t i = 0; i < clusters.size(); i += 2) {
+    clusters[i].lower = clusters[i].lower * 1e-6f + Vec3f{1e6f, 0, 0};
+    clusters[i].upper = clusters[i].upper * 1e-6f + Vec3f{1e6f, 0, 0};
+  }
+  buildAndCheck(clusters, 4, order, "clusters");
+}
+
+BOOST_AUTO_TEST_CASE(trees_do_not_depend_on_the_thread_count) {
+  std::mt19937 rng(3);
+  // Large enough for the parallel sort and parallel subtrees, with duplicates so that equal
+  // codes must keep their input order.
+  std::vector<Box3f> boxes = randomBoxes(rng, 120000, 1.0f);
+  for (std::size_t i = 0; i < boxes.size(); i += 3) boxes[i] = boxes[i / 2];
+  BvhBuildResult results[2];
+  std::vector<std::uint32_t> orders[2];
+  for (int threads = 1; threads <= 2; ++threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    BvhMortonBuilder builder;
+    builder.build(boxes, BvhMortonOptions{}, orders[threads - 1], results[threads - 1]);
+  }
+  BOOST_TEST((orders[0] == orders[1]));
+  BOOST_TEST(results[0].nodes.size() == results[1].nodes.size());
+  BOOST_TEST(results[0].leaves == results[1].leaves);
+  BOOST_TEST(results[0].maxDepth == results[1].maxDepth);
+  BOOST_TEST(results[0].sahCost == results[1].sahCost);
+  BOOST_TEST(sameTree(results[0].nodes, 0, results[1].nodes, 0));
+}
+
+BOOST_AUTO_TEST_CASE(rebuilds_reuse_the_builder) {
+  // A builder that built a larger input first must give the same tree as a fresh one.
+  std::mt19937 rng(4);
+  const std::vector<Box3f> large = randomBoxes(rng, 40000, 1.0f);
+  const std::vector<Box3f> small = randomBoxes(rng, 9000, 1.0f);
+  BvhMortonBuilder reused, fresh;
+  std::vector<std::uint32_t> orderA, orderB;
+  BvhBuildResult a, b;
+  reused.build(large, BvhMortonOptions{}, orderA, a);
+  reused.build(small, BvhMortonOptions{}, orderA, a);
+  fresh.build(small, BvhMortonOptions{}, orderB, b);
+  BOOST_TEST((orderA == orderB));
+  BOOST_TEST(a.nodes.size() == b.nodes.size());
+  BOOST_TEST(sameTree(a.nodes, 0, b.nodes, 0));
+}
+
+BOOST_AUTO_TEST_CASE(refit_recomputes_boxes_bottom_up) {
+  std::mt19937 rng(5);
+  std::vector<Box3f> boxes = randomBoxes(rng, 30000, 2.0f);
+  std::vector<std::uint32_t> order;
+  BvhMortonOptions options;
+  BvhMortonBuilder builder;
+  BvhBuildResult built;
+  builder.build(boxes, options, order, built);
+  const auto leafBox = [&](std::uint32_t first, std::uint32_t count, NoLeafData&) {
+    Box3f b;
+    for (std::uint32_t k = first; k < first + count; ++k) b.extend(boxes[order[k]]);
+    return b;
+  };
+  // Unchanged boxes: the refit reproduces the build's boxes and cost exactly, serial or not.
+  for (int levels : {0, 2}) {
+    Bvh4NodeArray nodes = built.nodes;
+    Bvh4SahSum sum;
+    NoLeafData none;
+    const Box3f root = refitBvh4(nodes, 0, leafBox, options.traversalCost, options.intersectionCost,
+                                 levels, sum, none);
+    BOOST_TEST((root == built.bounds));
+    BOOST_TEST(sum.finish(root, options.traversalCost) == built.sahCost);
+    BOOST_TEST(sameTree(nodes, 0, built.nodes, 0));
+  }
+  // Moved boxes: the refitted tree encloses every primitive again.
+  std::uniform_real_distribution<float> move(-5.0f, 5.0f);
+  for (Box3f& b : boxes) {
+    const Vec3f d{move(rng), move(rng), move(rng)};
+    b = {b.lower + d, b.upper + d};
+  }
+  Bvh4NodeArray nodes = built.nodes;
+  Bvh4SahSum sum;
+  NoLeafData none;
+  const Box3f root = refitBvh4(nodes, 0, leafBox, 1.0, 1.0, 2, sum, none);
+  std::vector<Box3f> sorted(boxes.size());
+  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = boxes[order[k]];
+  std::vector<int> seen(boxes.size(), 0);
+  TreeCheck c;
+  BOOST_TEST((walk(nodes, 0, 0, sorted, options.maxLeafSize, seen, c) == root));
+  BOOST_TEST(c.errors == 0u, c.firstError);
+  const double walked = bvh4SahCost(nodes, 1.0, 1.0);
+  BOOST_TEST(std::abs(sum.finish(root, 1.0) - walked) <= 1e-9 * walked);
+}
+
+BOOST_AUTO_TEST_CASE(prim_interface_matches_the_box_interface) {
+  std::mt19937 rng(6);
+  const std::vector<Box3f> boxes = randomBoxes(rng, 5000, 1.0f);
+  std::vector<BvhPrim> prims;
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    prims.push_back(BvhPrim::make(boxes[i], static_cast<std::uint32_t>(i)));
+  BvhBuildOptions options;
+  options.maxLeafSize = 2;
+  BvhBuildResult viaPrims, viaBoxes;
+  buildBvh4Morton(prims, options, viaPrims);
+  BvhMortonOptions mortonOptions;
+  mortonOptions.maxLeafSize = 2;
+  std::vector<std::uint32_t> order;
+  BvhMortonBuilder().build(boxes, mortonOptions, order, viaBoxes);
+  BOOST_TEST_REQUIRE(prims.size() == order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) BOOST_TEST_REQUIRE(prims[k].id == order[k]);
+  BOOST_TEST(sameTree(viaPrims.nodes, 0, viaBoxes.nodes, 0));
+}
