@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 namespace tg::bench {
 
@@ -37,6 +38,17 @@ std::string ms(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, v < 1.0 ? "%.4f" : (v < 100.0 ? "%.3f" : "%.1f"), v);
   return buf;
+}
+
+std::string shortCase(const std::string& caseName) {
+  std::istringstream words(caseName);
+  std::string word, out;
+  while (words >> word) {
+    const std::size_t slash = word.rfind('/');
+    if (!out.empty()) out.push_back(' ');
+    out.append(slash == std::string::npos ? word : word.substr(slash + 1));
+  }
+  return out;
 }
 
 const BenchRow* findRow(const std::vector<const BenchRow*>& rows, const std::string& casePart,

@@ -21,6 +21,9 @@ std::string fmt(double v, int digits = 3);
 /// Milliseconds with a precision that suits their size.
 std::string ms(double v);
 
+/// A case name with every file path shortened to the file's name.
+std::string shortCase(const std::string& caseName);
+
 /// The first row whose case contains `casePart` and whose impl is `impl`, or null.
 const BenchRow* findRow(const std::vector<const BenchRow*>& rows, const std::string& casePart,
                         const std::string& impl);

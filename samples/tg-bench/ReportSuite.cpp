@@ -182,18 +182,6 @@ std::string throughputCell(const BenchRow& row) {
   return out.empty() ? "-" : out;
 }
 
-/// A case name with every file path shortened to the file's name.
-std::string shortCase(const std::string& caseName) {
-  std::istringstream words(caseName);
-  std::string word, out;
-  while (words >> word) {
-    const std::size_t slash = word.rfind('/');
-    if (!out.empty()) out.push_back(' ');
-    out.append(slash == std::string::npos ? word : word.substr(slash + 1));
-  }
-  return out;
-}
-
 void writeTable(std::ostream& md, const std::vector<const BenchRow*>& rows) {
   md << "| case | impl | median ms | min-max ms | reps | throughput | ours/row | error |\n"
      << "|---|---|---:|---:|---:|---:|---:|---|\n";
@@ -292,6 +280,15 @@ std::string runCommand(const std::string& command) {
   return out.empty() ? "unknown" : out;
 }
 
+/// The 1-, 5- and 15-minute load averages, or "unknown": speedups and throughput on a shared
+/// machine are only as good as the idle cores they had.
+std::string loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  double a = 0, b = 0, c = 0;
+  if (!(in >> a >> b >> c)) return "unknown";
+  return fmt(a, 2) + ", " + fmt(b, 2) + ", " + fmt(c, 2);
+}
+
 std::string utcNow() {
   const std::time_t now = std::time(nullptr);
   std::tm tm{};
@@ -305,6 +302,7 @@ std::string utcNow() {
 
 int runReport(const CommonOptions& common, const ReportOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  const std::string loadAtStart = loadAverage();
   std::filesystem::create_directories(options.outDir);
   const Plan plan = makePlan(options.quick, options.dataDir);
   CommonOptions suiteCommon = common;
@@ -506,6 +504,8 @@ int runReport(const CommonOptions& common, const ReportOptions& options) {
      << " |\n"
      << "| machine | " << machineDescription() << " |\n"
      << "| threads | " << common.threads << " (Tracegraph and Embree alike) |\n"
+     << "| load average | " << loadAtStart << " at the start, " << loadAverage()
+     << " at the end (1, 5, 15 min) |\n"
      << "| peer | Embree " << embree << ", in the same process and run |\n\n"
      << "Every figure below was measured in this run. Columns: *median ms* of the timed "
         "repetitions (after one untimed warm-up), *throughput* in Mrays/s or frames/s, "
