@@ -637,9 +637,9 @@ int runReport(const CommonOptions& common, const ReportOptions& options) {
   }
   for (const BenchRow* r : topicRows("overhead"))
     if (const auto ratio = real(*r, "instanced_over_flattened"))
-      md << "| two-level overhead, " << shortCase(r->caseName) << ", " << r->impl
-         << " | the paper argues that the top level adds little to a ray's cost; no figure "
-            "quoted | instanced/flattened time "
+      md << "| " << shortCase(r->caseName) << ", " << r->impl
+         << " | the two levels trade some traversal cost for a cheap per-frame update (the "
+            "paper's design); no figure of the paper quoted | instanced/flattened time "
          << fmt(*ratio) << " |\n";
   md << "\n## Plots\n\n"
      << "![Mrays/s against error](speed-vs-error.svg)\n\n"
