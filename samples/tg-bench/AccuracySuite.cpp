@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -20,6 +21,8 @@
 #include "AccuracyGeometry.h"
 #include "BenchSceneLoader.h"
 #include "BenchTiming.h"
+#include "FlattenedScene.h"
+#include "ImageJudge.h"
 #include "ReferenceJudge.h"
 #include "SceneGenerators.h"
 #include "SuiteCommon.h"
@@ -101,12 +104,6 @@ double percent(std::size_t count, std::size_t total) {
   return total == 0 ? 0.0 : 100.0 * static_cast<double>(count) / static_cast<double>(total);
 }
 
-void setRays(BenchRow& row, std::size_t rays) {
-  if (row.timing.medianMs > 0.0)
-    row.mraysPerS = static_cast<double>(rays) / (row.timing.medianMs * 1e3);
-  row.extra.push_back(intField("rays", static_cast<std::int64_t>(rays)));
-}
-
 void addJudgement(BenchRow& row, const Judgement& j) {
   row.extra.push_back(intField("mismatches", static_cast<std::int64_t>(j.mismatches)));
   row.extra.push_back(intField("ambiguous", static_cast<std::int64_t>(j.ambiguous)));
@@ -119,37 +116,6 @@ BenchScene singleMesh(const TriangleMesh& mesh, const std::string& name) {
   s.meshes.push_back(mesh);
   s.instances.push_back({0, Affine3d{}});
   return s;
-}
-
-/// Every instance of `bench` pre-transformed into one world-space mesh (float positions), and
-/// for every flattened triangle the (instance, triangle) it came from.
-struct Flattened {
-  BenchScene scene;
-  std::vector<RayOutcome> origin;
-};
-Flattened flatten(const BenchScene& bench) {
-  Flattened f;
-  f.scene.name = bench.name + " flattened";
-  TriangleMesh mesh;
-  for (std::size_t i = 0; i < bench.instances.size(); ++i) {
-    const BenchInstance& inst = bench.instances[i];
-    const TriangleMesh& m = bench.meshes[inst.mesh];
-    const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-    for (const Vec3f& p : m.positions)
-      mesh.positions.push_back(Vec3f(inst.objectToWorld.transformPoint(Vec3d(p))));
-    for (const std::uint32_t index : m.indices) mesh.indices.push_back(base + index);
-    for (std::size_t t = 0; t < m.triangleCount(); ++t)
-      f.origin.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(t)});
-  }
-  f.scene.meshes.push_back(std::move(mesh));
-  f.scene.instances.push_back({0, Affine3d{}});
-  return f;
-}
-
-/// Maps outcomes traced in a flattened scene back to the instanced scene's ids.
-void unflatten(const Flattened& f, std::vector<RayOutcome>& outcomes) {
-  for (RayOutcome& o : outcomes)
-    if (o.hit()) o = f.origin[o.prim];
 }
 
 // -------------------------------------------------------------------------------------------
@@ -764,9 +730,13 @@ void bartCase(BenchReport& report, const CommonOptions& common, const AccuracyOp
     const std::vector<Ray> rays = makePrimaryRays(frameBounds(judgeScene.bounds(), size), size);
     const std::vector<Ray> judged = subsampleRays(rays, sizes.bartJudged);
     std::vector<ReferenceHit> expected;
+    std::optional<ReferenceImage> image;  // for the perceptual (FLIP) error
     {
       const ReferenceIntersector reference(judgeScene);
-      arena.execute([&] { expected = referenceHits(reference, judged); });
+      arena.execute([&] {
+        expected = referenceHits(reference, judged);
+        image.emplace(judgeScene, reference, rays, size, sizes.bartJudged);
+      });
     }
     std::vector<RayOutcome> ours;
     const auto finish = [&](BenchRow& row, const std::vector<RayOutcome>& out) {
@@ -780,6 +750,7 @@ void bartCase(BenchReport& report, const CommonOptions& common, const AccuracyOp
                                     static_cast<double>(judgeOutcomes(expected, sub).mismatches)));
       row.extra.push_back(intField("judged", static_cast<std::int64_t>(judged.size())));
       row.extra.push_back(realField("psnr_db", eyeLightPsnr(judgeScene, judged, expected, sub)));
+      row.extra.push_back(realField("flip_mean", image->flipMean(out)));
     };
     const auto traceOurs = [&](const BenchScene& b, const SceneOptions& o, const std::string& impl,
                                const Flattened* mapBack) {

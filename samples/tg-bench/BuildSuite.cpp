@@ -63,12 +63,7 @@ BenchReport runBuildSuite(const CommonOptions& common, const BuildOptions& optio
   EmbreeDevice device(common.threads);
   for (const EmbreeQuality quality : kEmbreeBuildQualities) {
     progress("build: " + embreeImplName(quality));
-    const TimingSummary t = measureRepeated(reps, [&](int) {
-      EmbreeBenchScene peer(device, scene, quality);
-      const double ms = timeMs([&] { peer.commit(); });
-      device.check("committing the scene");
-      return ms;
-    });
+    const TimingSummary t = timeEmbreeBuilds(device, scene, quality, reps);
     EmbreeBenchScene peer(device, scene, quality);
     peer.commit();
     std::vector<RayOutcome> out(probes.size());

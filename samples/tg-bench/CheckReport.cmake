@@ -20,7 +20,9 @@ file(READ "${OUT}/REPORT.md" report)
 foreach(section "## Top-level rebuild" "## Object rebuild" "## Scene build" "## Ray throughput"
         "## Frames" "## Scene-graph sync" "## Loading" "## Accuracy" "### leaks" "### t error"
         "### acne" "### contact shadows" "### thin glass" "### determinism"
-        "## Variants compared" "## The 2003 paper beside ours" "## Plots")
+        "## Static build against Embree" "## Two-level overhead" "## Thread scaling"
+        "## Memory per triangle" "## Variants compared" "## Targets against Embree"
+        "## The 2003 paper beside ours" "## Plots" "FLIP ")
   string(FIND "${report}" "${section}" at)
   if(at EQUAL -1)
     message(FATAL_ERROR "the report lacks the section '${section}'")

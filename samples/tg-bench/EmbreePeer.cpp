@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 #include <tbb/parallel_for.h>
 
+#include <atomic>
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -15,6 +16,7 @@ namespace tg::bench {
 
 struct EmbreeDevice::State {
   RTCDevice device = nullptr;
+  std::atomic<std::int64_t> bytes{0};  ///< net bytes reported by the memory monitor
 };
 
 namespace {
@@ -22,6 +24,13 @@ namespace {
 void reportError(void* /*user*/, RTCError code, const char* message) {
   std::cerr << "embree: error " << static_cast<int>(code) << ": "
             << (message ? message : "(no message)") << '\n';
+}
+
+/// Embree's memory monitor: called before (post = false) every allocation and after every free
+/// with a negative size; counting both gives the bytes held.
+bool countBytes(void* user, ssize_t bytes, bool /*post*/) {
+  static_cast<std::atomic<std::int64_t>*>(user)->fetch_add(bytes, std::memory_order_relaxed);
+  return true;  // never veto an allocation
 }
 
 RTCBuildQuality sceneQuality(EmbreeQuality q) {
@@ -119,13 +128,18 @@ std::string embreeVersion() {
 
 // --- EmbreeDevice -------------------------------------------------------------------------
 
-EmbreeDevice::EmbreeDevice(int threads) : state_(std::make_unique<State>()) {
+EmbreeDevice::EmbreeDevice(int threads, bool monitorMemory) : state_(std::make_unique<State>()) {
   const std::string config = "threads=" + std::to_string(threads) + ",verbose=0";
   state_->device = rtcNewDevice(config.c_str());
   if (state_->device == nullptr)
     throw Error("Embree: rtcNewDevice(\"" + config + "\") failed (error " +
                 std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   rtcSetDeviceErrorFunction(state_->device, reportError, nullptr);
+  if (monitorMemory) rtcSetDeviceMemoryMonitorFunction(state_->device, countBytes, &state_->bytes);
+}
+
+std::int64_t EmbreeDevice::allocatedBytes() const {
+  return state_->bytes.load(std::memory_order_relaxed);
 }
 
 EmbreeDevice::~EmbreeDevice() {
@@ -364,6 +378,18 @@ void EmbreeBenchScene::occluded1(std::span<const Ray> rays, std::span<std::uint8
       // Embree marks an occluded ray by setting tfar to -infinity.
       out[i] = ray.tfar < 0.0f ? 1 : 0;
     }
+  });
+}
+
+// --- Build timing ----------------------------------------------------------------------------
+
+TimingSummary timeEmbreeBuilds(const EmbreeDevice& device, const BenchScene& scene,
+                               EmbreeQuality quality, int reps) {
+  return measureRepeated(reps, [&](int) {
+    EmbreeBenchScene peer(device, scene, quality);
+    const double ms = timeMs([&] { peer.commit(); });
+    device.check("committing the scene");
+    return ms;
   });
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "BenchScene.h"
+#include "BenchTiming.h"
 #include "HitComparison.h"
 #include "RayGenerators.h"
 #include "tracegraph/backend/Affine.h"
@@ -38,7 +39,9 @@ std::string embreeVersion();
 /// stderr as they happen and turned into tg::Error by check().
 class EmbreeDevice {
  public:
-  explicit EmbreeDevice(int threads);
+  /// With `monitorMemory`, installs Embree's memory-monitor callback to count the bytes the
+  /// device holds (see allocatedBytes); off by default, since it runs on every allocation.
+  explicit EmbreeDevice(int threads, bool monitorMemory = false);
   ~EmbreeDevice();
   EmbreeDevice(const EmbreeDevice&) = delete;
   EmbreeDevice& operator=(const EmbreeDevice&) = delete;
@@ -46,6 +49,10 @@ class EmbreeDevice {
   /// Throws tg::Error naming `what` when Embree reported an error on this thread since the
   /// last check.
   void check(const char* what) const;
+
+  /// Bytes the device holds now (allocations minus frees, geometry buffers and acceleration
+  /// structures alike) as its memory monitor reported them; 0 without monitoring.
+  std::int64_t allocatedBytes() const;
 
   struct State;
   /// Implementation access for the other peer classes.
@@ -120,5 +127,11 @@ class EmbreeBenchScene {
   struct State;
   std::unique_ptr<State> state_;
 };
+
+/// Times `reps` from-scratch builds of `scene` at `quality`: a new EmbreeBenchScene per sample
+/// (copying the geometry in is setup), its commit() timed, after one untimed warm-up. Throws
+/// tg::Error when Embree reports an error.
+TimingSummary timeEmbreeBuilds(const EmbreeDevice& device, const BenchScene& scene,
+                               EmbreeQuality quality, int reps);
 
 }  // namespace tg::bench

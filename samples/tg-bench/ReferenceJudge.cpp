@@ -126,15 +126,20 @@ double ulpError(float t, double reference) {
 
 std::vector<RayOutcome> traceOutcomes(const Scene& scene, std::span<const Ray> rays) {
   std::vector<RayOutcome> out(rays.size());
+  traceOutcomes(scene, rays, out);
+  return out;
+}
+
+void traceOutcomes(const Scene& scene, std::span<const Ray> rays, std::span<RayOutcome> out) {
   parallelOverRays(rays.size(), [&](std::size_t begin, std::size_t end) {
     TraversalContext ctx;
     Hit hit;
     for (std::size_t i = begin; i < end; ++i) {
       hit = Hit{};
-      if (scene.intersect(rays[i], hit, ctx)) out[i] = {hit.instanceId, hit.primId};
+      out[i] = scene.intersect(rays[i], hit, ctx) ? RayOutcome{hit.instanceId, hit.primId}
+                                                  : RayOutcome{};
     }
   });
-  return out;
 }
 
 std::vector<RayOutcome> traceOutcomesInPackets(const Scene& scene, std::span<const Ray> rays) {

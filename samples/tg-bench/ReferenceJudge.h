@@ -56,6 +56,8 @@ double ulpError(float t, double reference);
 
 /// Outcomes of tracing `rays` through `scene` (parallel in the calling arena).
 std::vector<RayOutcome> traceOutcomes(const Scene& scene, std::span<const Ray> rays);
+/// The same into `out` (one per ray), so that timed loops allocate nothing.
+void traceOutcomes(const Scene& scene, std::span<const Ray> rays, std::span<RayOutcome> out);
 
 /// The same through the packet interface (Scene::intersect over spans): consecutive rays form
 /// the packets.

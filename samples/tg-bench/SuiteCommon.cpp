@@ -34,6 +34,52 @@ BenchRow& addRow(BenchReport& report, const std::string& caseName, const std::st
   return report.rows.back();
 }
 
+void setRays(BenchRow& row, std::size_t rays) {
+  // rays / (ms * 1e-3 s/ms) / 1e6 rays per Mray
+  if (row.timing.medianMs > 0.0)
+    row.mraysPerS = static_cast<double>(rays) / (row.timing.medianMs * 1e3);
+  row.extra.push_back(intField("rays", static_cast<std::int64_t>(rays)));
+}
+
+namespace {
+
+/// Calls add(row, partner) for every row and the partner row of its case.
+template <typename Add>
+void forPartners(BenchReport& report, const PartnerOf& partnerOf, const Add& add) {
+  for (BenchRow& row : report.rows) {
+    const std::string partner = partnerOf(row);
+    if (partner.empty()) continue;
+    for (const BenchRow& other : report.rows)
+      if (other.impl == partner && other.caseName == row.caseName) add(row, other);
+  }
+}
+
+PartnerOf peerOfOurs(const std::string& peerImpl) {
+  return [peerImpl](const BenchRow& row) {
+    return row.impl.rfind("tracegraph", 0) == 0 ? peerImpl : std::string();
+  };
+}
+
+}  // namespace
+
+void addTimeRatios(BenchReport& report, const PartnerOf& partner, const std::string& key) {
+  forPartners(report, partner, [&](BenchRow& row, const BenchRow& other) {
+    if (other.timing.medianMs > 0.0)
+      row.extra.push_back(realField(key, row.timing.medianMs / other.timing.medianMs));
+  });
+}
+
+void addTimeRatios(BenchReport& report, const std::string& peerImpl, const std::string& key) {
+  addTimeRatios(report, peerOfOurs(peerImpl), key);
+}
+
+void addThroughputRatios(BenchReport& report, const std::string& peerImpl, const std::string& key) {
+  forPartners(report, peerOfOurs(peerImpl), [&](BenchRow& row, const BenchRow& other) {
+    if (row.mraysPerS && other.mraysPerS && *other.mraysPerS > 0.0)
+      row.extra.push_back(realField(key, *row.mraysPerS / *other.mraysPerS));
+  });
+}
+
 ExtraField intField(const std::string& key, std::int64_t value) {
   return {key, value};
 }

@@ -2,7 +2,9 @@
 /// Small helpers shared by the suite implementations.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "BenchReport.h"
@@ -20,6 +22,25 @@ BenchReport startReport(const std::string& suite, const CommonOptions& common);
 /// Appends a row and returns it for adding extra fields.
 BenchRow& addRow(BenchReport& report, const std::string& caseName, const std::string& impl,
                  const TimingSummary& timing);
+
+/// Sets the row's Mrays/s from `rays` traced in its median time and records the ray count
+/// (field "rays").
+void setRays(BenchRow& row, std::size_t rays);
+
+/// Names the row a row is compared with (same case), or "" for none.
+using PartnerOf = std::function<std::string(const BenchRow&)>;
+
+/// Adds `key` = this row's median / its partner's median to every row that has a partner row
+/// of the same case: below 1, this row is faster.
+void addTimeRatios(BenchReport& report, const PartnerOf& partner, const std::string& key);
+
+/// The same with the `peerImpl` row as the partner of every Tracegraph row (impl starting with
+/// "tracegraph").
+void addTimeRatios(BenchReport& report, const std::string& peerImpl, const std::string& key);
+
+/// Adds `key` = this row's Mrays/s / the peer row's Mrays/s to every Tracegraph row of a case
+/// that has a row of `peerImpl` (both traced): above 1, ours traces faster.
+void addThroughputRatios(BenchReport& report, const std::string& peerImpl, const std::string& key);
 
 /// Extra fields of a row or report.
 ExtraField intField(const std::string& key, std::int64_t value);

@@ -88,6 +88,38 @@ BenchReport runLoadSuite(const CommonOptions& common, const LoadOptions& options
 BenchReport runSyncSuite(const CommonOptions& common, const SyncSuiteOptions& options);
 BenchReport runFrameSuite(const CommonOptions& common, const FrameSuiteOptions& options);
 
+/// The scene suites that measure one issue row each against Embree on a scene's primary rays:
+/// `static`, `overhead`, `scaling` and `memory` (see their functions).
+struct PeerSceneOptions {
+  std::string scene;          ///< as for the build and trace suites
+  ImageSize size{640, 480};   ///< primary-ray image (not used by `memory`)
+  std::size_t judged = 1024;  ///< rays judged by the reference, and pixels of its FLIP grid
+};
+
+/// `static`: the scene flattened into one static mesh, built from scratch by our static
+/// builders (bvh, sah-kd) and Embree (low, medium, high). Each row times the build (median_ms)
+/// and carries the trace speed of the structure it built (mrays_per_s: primary rays, median of
+/// the trace repetitions; trace_ms) with its error. Our rows add build_vs_embree_medium (build
+/// time ratio, target <= 1) and trace_vs_embree_medium (Mrays/s ratio, target >= 1).
+BenchReport runStaticBuildSuite(const CommonOptions& common, const PeerSceneOptions& options);
+
+/// `overhead`: primary-ray throughput of the two-level scene (instances as the scene graph
+/// produces them) and of the same triangles flattened into one object, per engine and for
+/// Embree. Instanced rows add instanced_over_flattened (time ratio, target <= 1.10); ours add
+/// time_vs_embree (against Embree's row of the same layout).
+BenchReport runOverheadSuite(const CommonOptions& common, const PeerSceneOptions& options);
+
+/// `scaling`: primary-ray throughput with 1 thread and with --threads threads, per engine and
+/// for Embree; rows with more than one thread add speedup (1-thread time / this time, target
+/// >= 1.9 on 2 threads) and ours speedup_vs_embree.
+BenchReport runScalingSuite(const CommonOptions& common, const PeerSceneOptions& options);
+
+/// `memory`: bytes per triangle of every accelerator (BuildStats::bytes) plus the mesh, on the
+/// scene flattened into one mesh, beside Embree's low, medium, high and refit builds as its
+/// memory monitor counts them. Fields accel_bytes, mesh_bytes, bytes_per_triangle; ours add
+/// bytes_vs_embree_medium. median_ms is the build time.
+BenchReport runMemorySuite(const CommonOptions& common, const PeerSceneOptions& options);
+
 /// `accuracy`: the hard cases of ../shared/docs/hard-cases.md as measurements judged by the
 /// double-precision brute-force reference. Every row carries a time (of the rays it traced) and
 /// error fields (leaks_per_1e7, ulp_max, acne_pct, mismatches, ...). The trace suite's and the

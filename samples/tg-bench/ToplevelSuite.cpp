@@ -119,6 +119,8 @@ BenchReport runToplevelSuite(const CommonOptions& common, const ToplevelOptions&
     device.check("committing the instance scene");
     addRow(report, caseName, embreeImplName(quality), t);
   }
+  // Every row of ours against Embree's default build quality, measured above.
+  addTimeRatios(report, embreeImplName(EmbreeQuality::Medium), "vs_embree_medium");
 #endif
   return report;
 }

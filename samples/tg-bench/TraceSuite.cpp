@@ -5,11 +5,13 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <optional>
 #include <vector>
 
 #include "BenchSceneLoader.h"
 #include "BenchTiming.h"
 #include "HitComparison.h"
+#include "ImageJudge.h"
 #include "RayGenerators.h"
 #include "ReferenceJudge.h"
 #include "SuiteCommon.h"
@@ -188,6 +190,10 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
   const ReferenceIntersector reference(scene);
   std::vector<ReferenceHit> expected;
   if (!shadow) arena.execute([&] { expected = referenceHits(reference, judged); });
+  // The reference's image on a pixel grid, for the perceptual (FLIP) error of primary rays.
+  std::optional<ReferenceImage> image;
+  if (!shadow)
+    arena.execute([&] { image.emplace(scene, reference, rays, options.size, kJudgedRays); });
   const auto judgeClosest = [&](BenchRow& row, std::span<const RayOutcome> out) {
     const std::vector<RayOutcome> sub = subsampleOutcomes(out, kJudgedRays);
     row.extra.push_back(intField(
@@ -195,6 +201,7 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
     row.extra.push_back(intField("judged", static_cast<std::int64_t>(judged.size())));
     // Eye-light shading of the primary hits against the reference's: an image error.
     row.extra.push_back(realField("psnr_db", eyeLightPsnr(scene, judged, expected, sub)));
+    row.extra.push_back(realField("flip_mean", image->flipMean(out)));
   };
   const auto judgeAny = [&](BenchRow& row, std::span<const std::uint8_t> occluded) {
     Judgement j;

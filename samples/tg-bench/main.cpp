@@ -2,7 +2,8 @@
 //
 //   tg-bench <suite> [options] [--json] [--threads N] [--reps R]
 //
-// Suites: toplevel, rebuild, build, trace, sync, frame, load, accuracy (see Suites.h); `report`
+// Suites: toplevel, rebuild, build, trace, sync, frame, load, accuracy, static, overhead,
+// scaling, memory (see Suites.h); `report`
 // runs them all and writes a markdown report (ReportSuite.h). stdout holds only
 // the report (a table, or with --json exactly one JSON object); progress and notes go to
 // stderr. Exit codes: 0 success, 1 bad input (e.g. a scene that cannot be loaded), 2 bad
@@ -33,6 +34,29 @@ void addCommonOptions(CLI::App& sub, CommonOptions& common) {
                  "Timed repetitions, reported as median/min/max (default: 11 for builds, 5 for "
                  "trace, 31 for sync; frame: passes over its frames, default 1)")
       ->check(CLI::Range(1, 100000));
+}
+
+/// Accepts what parseImageSize accepts.
+CLI::Validator imageSizeValidator() {
+  return CLI::Validator(
+      [](std::string& text) {
+        ImageSize size;
+        return parseImageSize(text, size) ? std::string() : "expected WxH with 1 <= W, H <= 16384";
+      },
+      "WxH");
+}
+
+/// --scene, --size and --judged of the scene suites against Embree.
+void addPeerSceneOptions(CLI::App& sub, PeerSceneOptions& options, std::string& sizeText,
+                         const std::string& sceneHelp) {
+  sub.add_option("--scene", options.scene, sceneHelp)->required();
+  sub.add_option("--size", sizeText, "Primary-ray image size WxH")
+      ->check(imageSizeValidator())
+      ->capture_default_str();
+  sub.add_option("--judged", options.judged,
+                 "Rays judged by the brute-force reference (and pixels of its FLIP image)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000}))
+      ->capture_default_str();
 }
 
 }  // namespace
@@ -80,15 +104,25 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   std::string sizeText = "1024x768";
   traceCmd->add_option("--size", sizeText, "Image size WxH")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            ImageSize size;
-            return parseImageSize(text, size) ? std::string()
-                                              : "expected WxH with 1 <= W, H <= 16384";
-          },
-          "WxH"))
+      ->check(imageSizeValidator())
       ->capture_default_str();
   addCommonOptions(*traceCmd, common);
+
+  // The scene suites against Embree: one options set, a subcommand each.
+  PeerSceneOptions peerScene;
+  std::string peerSizeText = "640x480";
+  CLI::App* staticCmd = app.add_subcommand(
+      "static", "Static build of a flattened scene, with the trace speed of what was built");
+  CLI::App* overheadCmd = app.add_subcommand(
+      "overhead", "Two-level overhead: the scene instanced against the same triangles flattened");
+  CLI::App* scalingCmd =
+      app.add_subcommand("scaling", "Primary-ray throughput on 1 thread and on --threads threads");
+  CLI::App* memoryCmd = app.add_subcommand(
+      "memory", "Bytes per triangle of every accelerator and of Embree's builds (flattened scene)");
+  for (CLI::App* cmd : {staticCmd, overheadCmd, scalingCmd, memoryCmd}) {
+    addPeerSceneOptions(*cmd, peerScene, peerSizeText, sceneHelp);
+    addCommonOptions(*cmd, common);
+  }
 
   CLI::App* loadCmd =
       app.add_subcommand("load", "Parse, node-graph conversion and first sync of a scene file");
@@ -113,13 +147,7 @@ int main(int argc, char** argv) {
   frameCmd->add_option("--scene", frameOptions.scene, graphSceneHelp);
   std::string frameSizeText = "640x480";
   frameCmd->add_option("--size", frameSizeText, "Image size WxH")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            ImageSize size;
-            return parseImageSize(text, size) ? std::string()
-                                              : "expected WxH with 1 <= W, H <= 16384";
-          },
-          "WxH"))
+      ->check(imageSizeValidator())
       ->capture_default_str();
   std::string frameMode;
   frameCmd->add_option("--mode", frameMode, "Render mode (default: both, one row each)")
@@ -168,6 +196,7 @@ int main(int argc, char** argv) {
   }
   parseImageSize(sizeText, trace.size);
   parseImageSize(frameSizeText, frameOptions.size);
+  parseImageSize(peerSizeText, peerScene.size);
   if (!frameMode.empty()) frameOptions.modes = {frameMode};
   if (!frameEngine.empty()) frameOptions.engines = {frameEngine};
 
@@ -191,6 +220,14 @@ int main(int argc, char** argv) {
       report = runAccuracySuite(common, accuracy);
     } else if (*traceCmd) {
       report = runTraceSuite(common, trace);
+    } else if (*staticCmd) {
+      report = runStaticBuildSuite(common, peerScene);
+    } else if (*overheadCmd) {
+      report = runOverheadSuite(common, peerScene);
+    } else if (*scalingCmd) {
+      report = runScalingSuite(common, peerScene);
+    } else if (*memoryCmd) {
+      report = runMemorySuite(common, peerScene);
     } else {
       report = runLoadSuite(common, load);
     }

@@ -1,0 +1,52 @@
+#include "PrimaryScene.h"
+
+#include "BenchSceneLoader.h"
+#include "ReferenceJudge.h"
+#include "SuiteCommon.h"
+#include "tracegraph/backend/Error.h"
+
+#ifdef TG_HAVE_EMBREE
+#include "EmbreePeer.h"
+#endif
+
+namespace tg::bench {
+
+PrimaryScene::PrimaryScene(const PeerSceneOptions& options, tbb::task_arena& arena)
+    : bench_(loadBenchScene(options.scene)), flat_(flatten(bench_)) {
+  populateScene(bench_, judgeScene_);
+  arena.execute([&] { judgeScene_.commit(); });
+  const Box3f bounds = judgeScene_.bounds();
+  if (bounds.empty()) throw Error("scene '" + options.scene + "' has no triangles to trace");
+  rays_ = makePrimaryRays(frameBounds(bounds, options.size), options.size);
+  caseName_ = options.scene + " primary " + std::to_string(options.size.width) + "x" +
+              std::to_string(options.size.height);
+  progress("rendering the reference of " + caseName_);
+  arena.execute([&] {
+    judge_ = std::make_unique<PrimaryImageJudge>(judgeScene_, rays_, options.size, options.judged);
+  });
+}
+
+void PrimaryScene::judge(BenchRow& row, std::vector<RayOutcome> outcomes, bool flattened) const {
+  if (flattened) unflatten(flat_, outcomes);
+  judge_->judge(row, outcomes);
+}
+
+TimingSummary timeTrace(tbb::task_arena& arena, int reps, const Scene& scene,
+                        std::span<const Ray> rays, std::vector<RayOutcome>& out) {
+  out.assign(rays.size(), RayOutcome{});
+  return measureRepeated(reps, [&](int) {
+    return timeMs([&] { arena.execute([&] { traceOutcomes(scene, rays, out); }); });
+  });
+}
+
+#ifdef TG_HAVE_EMBREE
+TimingSummary timeTrace(tbb::task_arena& arena, int reps, const EmbreeBenchScene& scene,
+                        std::span<const Ray> rays, std::vector<RayOutcome>& out) {
+  out.assign(rays.size(), RayOutcome{});
+  return measureRepeated(reps, [&](int) {
+    return timeMs([&] { arena.execute([&] { scene.intersect1(rays, out); }); });
+  });
+}
+#endif
+
+}  // namespace tg::bench
