@@ -365,8 +365,10 @@ int runReport(const CommonOptions& common, const ReportOptions& options) {
   {
     Topic t{"Ray throughput",
             "trace",
-            "Closest-hit (primary) and any-hit (shadow) rays; Tracegraph traces single rays, "
-            "Embree single rays (intersect1) and 8-wide packets (intersect8).",
+            "Closest-hit (primary) and any-hit (shadow) rays; Tracegraph traces single rays and "
+            "8-wide packets (tracegraph-bvh-packets, whose answers must equal the single rays': "
+            "single_ray_mismatches), Embree single rays (intersect1) and 8-wide packets "
+            "(intersect8).",
             {},
             {}};
     suiteCommon.reps = plan.traceReps;

@@ -33,7 +33,8 @@ const BenchRow* rowOf(const std::vector<const BenchRow*>& rows, const std::strin
   return nullptr;
 }
 
-/// Row 1: our top-level builds against embree-medium at 661 instances and the largest count.
+/// Row 1: our top-level builds against embree-medium at 661 instances and the largest count
+/// (the issue asks for half of Embree's time).
 void toplevel(const std::vector<const BenchRow*>& rows, std::vector<Line>& out) {
   std::set<double> counts;
   for (const BenchRow* r : rows) counts.insert(std::stod(r->caseName));
@@ -48,8 +49,8 @@ void toplevel(const std::vector<const BenchRow*>& rows, std::vector<Line>& out) 
       const auto ratio = r ? real(*r, "vs_embree_medium") : std::nullopt;
       if (!r || !peer || !ratio) continue;
       out.push_back({"1. top-level rebuild, " + caseName + ", " + impl, figure(r, "ms"),
-                     "medium " + figure(peer, "ms"), fmt(*ratio) + " (time)", "<= 1",
-                     verdict(*ratio <= 1.0)});
+                     "medium " + figure(peer, "ms"), fmt(*ratio) + " (time)", "<= 0.5",
+                     verdict(*ratio <= 0.5)});
     }
   }
 }
@@ -131,6 +132,62 @@ void memory(const std::vector<const BenchRow*>& rows, std::vector<Line>& out) {
   }
 }
 
+/// Throughput ratio ours / peer of two rows of one case, as a line with target ">= 1".
+void throughputLine(const std::string& label, const BenchRow* r, const BenchRow* peer,
+                    std::vector<Line>& out) {
+  if (!r || !peer || !r->mraysPerS || !peer->mraysPerS || !(*peer->mraysPerS > 0.0)) return;
+  const double ratio = *r->mraysPerS / *peer->mraysPerS;
+  out.push_back({label + ", " + r->impl, figure(r, "mrays"),
+                 peer->impl + " " + figure(peer, "mrays"), fmt(ratio) + " (throughput)", ">= 1",
+                 verdict(ratio >= 1.0)});
+}
+
+/// Row 6: single rays against rtcIntersect1/rtcOccluded1, packets against rtcIntersect8.
+void throughput(const std::vector<const BenchRow*>& rows, std::vector<Line>& out) {
+  for (const std::string& c : casesOf(rows)) {
+    const bool shadow = c.find(" shadow ") != std::string::npos;
+    const std::string label = "6. " + shortCase(c);
+    const BenchRow* single = rowOf(rows, c, shadow ? "embree-occluded1" : "embree-intersect1");
+    throughputLine(label, rowOf(rows, c, "tracegraph-bvh"), single, out);
+    throughputLine(label, rowOf(rows, c, "tracegraph-bvh-packets"),
+                   shadow ? single : rowOf(rows, c, "embree-intersect8"), out);
+  }
+}
+
+/// Row 7: the deforming rebuild against Embree LOW and the refit against Embree's refit, at
+/// the largest triangle count of the run.
+void rebuild(const std::vector<const BenchRow*>& rows, std::vector<Line>& out) {
+  const std::vector<std::string> cases = casesOf(rows);
+  if (cases.empty()) return;
+  const std::string c =
+      *std::max_element(cases.begin(), cases.end(),
+                        [](const auto& a, const auto& b) { return std::stod(a) < std::stod(b); });
+  const auto timeLine = [&](const char* impl, const char* peerImpl) {
+    const BenchRow* r = rowOf(rows, c, impl);
+    const BenchRow* peer = rowOf(rows, c, peerImpl);
+    if (!r || !peer || !(peer->timing.medianMs > 0.0)) return;
+    const double ratio = r->timing.medianMs / peer->timing.medianMs;
+    out.push_back({"7. rebuild, " + c + ", " + impl, figure(r, "ms"),
+                   std::string(peerImpl) + " " + figure(peer, "ms"), fmt(ratio) + " (time)", "<= 1",
+                   verdict(ratio <= 1.0)});
+  };
+  timeLine("tracegraph-bvh-fast", "embree-low");
+  timeLine("tracegraph-bvh-fast-refit", "embree-refit");
+}
+
+/// Row 8: frame rates of the BART kitchen against the issue's absolute targets (no peer).
+void frames(const std::vector<const BenchRow*>& rows, std::vector<Line>& out) {
+  for (const BenchRow* r : rows) {
+    if (r->caseName.find("kitchen") == std::string::npos) continue;
+    const auto fps = real(*r, "fps");
+    if (!fps) continue;
+    const bool whitted = r->impl.find("whitted") != std::string::npos;
+    const double target = whitted ? 4.0 : 60.0;
+    out.push_back({"8. " + shortCase(r->caseName) + ", " + r->impl, fmt(*fps) + " fps", "-", "-",
+                   ">= " + fmt(target) + " fps", verdict(*fps >= target)});
+  }
+}
+
 }  // namespace
 
 void writeTargets(std::ostream& md, const TopicRows& topicRows) {
@@ -140,11 +197,16 @@ void writeTargets(std::ostream& md, const TopicRows& topicRows) {
   overhead(topicRows("overhead"), lines);
   scaling(topicRows("scaling"), lines);
   memory(topicRows("memory"), lines);
+  throughput(topicRows("trace"), lines);
+  rebuild(topicRows("rebuild"), lines);
+  frames(topicRows("frame"), lines);
   md << "## Targets against Embree\n\n"
      << "Each line compares rows of the tables above, measured in this run in the same process "
         "and with the same threads. Ratios of times are ours / Embree's (below 1: ours is "
         "faster); ratios of throughput, speedups and bytes are ours / Embree's. Embree traces "
-        "single rays here (rtcIntersect1), as ours do. A speedup needs idle cores: when "
+        "single rays in lines 2-4 (rtcIntersect1), as ours do; line 6 sets our packets "
+        "against its 8-wide packets (rtcIntersect8) for primary rays. Line 8 has no peer: the "
+        "frame rates are the issue's absolute targets. A speedup needs idle cores: when "
         "Embree's own speedup is near 1 too, other work held the cores (see the load average "
         "above), and the scaling lines say nothing about our code.\n\n"
      << "| measure | ours | Embree | ratio | target | met |\n|---|---|---|---|---|---|\n";
