@@ -167,15 +167,19 @@ class Hierarchy {
     Counts counts;
     counts.maxDepth = depth;
     bool large = false;
+    std::uint32_t inner = 0;
+    for (int c = 0; c < n; ++c) inner += ranges[c].count() > maxLeaf_ ? 1u : 0u;
+    // Children are numbered after their parent, which lets a refit run bottom-up by walking the
+    // nodes backwards. One shared counter update per node, not per child: both threads
+    // allocate from it, and every update moves its cache line between them.
+    std::uint32_t next = inner == 0 ? 0 : nextNode_.fetch_add(inner, std::memory_order_relaxed);
     for (int c = 0; c < n; ++c) {
       if (ranges[c].count() <= maxLeaf_) {
         node.child[c] = ranges[c].begin;
         node.count[c] = ranges[c].count();
         ++counts.leaves;
       } else {
-        // Children are numbered after their parent, which lets a refit run bottom-up by
-        // walking the nodes backwards.
-        node.child[c] = nextNode_.fetch_add(1, std::memory_order_relaxed);
+        node.child[c] = next++;
         node.count[c] = 0;
         large = large || ranges[c].count() > options_.parallelThreshold;
       }
