@@ -569,10 +569,30 @@ int runReport(const CommonOptions& common, const ReportOptions& options) {
     line("A instanced vs B flattened (two-level overhead)", c + " primary, Mrays/s",
          figure(findRow(all, c, "tracegraph-sah-kd"), "mrays"),
          figure(findRow(all, c, "tracegraph-sah-kd flattened"), "mrays"));
-    line("A single rays vs B packets (Embree; Tracegraph has no packet path)",
-         c + " primary, Mrays/s", figure(findRow(all, c, "embree-intersect1"), "mrays"),
+    line("A single rays vs B packets of 8 (Embree)", c + " primary, Mrays/s",
+         figure(findRow(all, c, "embree-intersect1"), "mrays"),
          figure(findRow(all, c, "embree-intersect8"), "mrays"));
   }
+  // Tracegraph's own packets: the same rays and structures as its single rays, in the trace
+  // topic; their answers equal the single rays' (single_ray_mismatches).
+  const std::vector<const BenchRow*> traceRows = topicRows("trace");
+  for (const char* c : {"kitchen.aff primary", "Robot.aff primary", "kitchen.aff shadow"}) {
+    const BenchRow* single = findRow(traceRows, c, "tracegraph-bvh");
+    const BenchRow* packets = findRow(traceRows, c, "tracegraph-bvh-packets");
+    if (!single || !packets) continue;
+    line("A single rays vs B packets of 8 (Tracegraph BVH)", std::string(c) + ", Mrays/s",
+         figure(single, "mrays"), figure(packets, "mrays"));
+    line("A single rays vs B packets of 8 (Tracegraph BVH)",
+         std::string(c) + ", reference mismatches / answers differing from single rays",
+         figure(single, "ref_mismatches"),
+         figure(packets, "ref_mismatches") + " / " + figure(packets, "single_ray_mismatches"));
+    line("A kd-tree engine vs B BVH engine", std::string(c) + ", Mrays/s",
+         figure(findRow(traceRows, c, "tracegraph-kd"), "mrays"), figure(single, "mrays"));
+  }
+  line("A single rays vs B packets of 8 (Tracegraph BVH)",
+       "leaks per 1e7 vertex/edge rays, icosphere",
+       figure(findRow(all, "leaks: icosphere", "tracegraph-bvh"), "leaks_per_1e7"),
+       figure(findRow(all, "leaks: icosphere", "tracegraph-bvh-packets"), "leaks_per_1e7"));
   line("A instanced vs B flattened", "t error (max ulp) at translation 1e2",
        figure(findRow(all, "t error: translation 1e2", "tracegraph-sah-kd instanced"), "ulp_max"),
        figure(findRow(all, "t error: translation 1e2", "tracegraph-sah-kd flattened"), "ulp_max"));
