@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "SharedData.h"
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/loaders/AffLoader.h"
 #include "tracegraph/nodes/KeyframeDeformer.h"
@@ -47,14 +48,9 @@ const fs::path kRobots = kData / "bart/robots/aff/Robot.aff";
 const fs::path kMuseum = kData / "bart/museum/aff/museum5.aff";
 
 /// Skips a test (with the reason) when the shared BART scenes are not installed.
-struct BartAvailable {
-  boost::test_tools::assertion_result operator()(utf::test_unit_id) const {
-    boost::test_tools::assertion_result r(fs::exists(kKitchen) && fs::exists(kRobots) &&
-                                          fs::exists(kMuseum));
-    r.message() << "BART scenes not found under " << kData.string() << " (TG_DATA_DIR); skipped";
-    return r;
-  }
-};
+tg::test::FilesAvailable BartAvailable() {
+  return {"BART scenes", kData, {kKitchen, kRobots, kMuseum}};
+}
 
 /// Each scene is loaded once (with its document) and shared by the tests; every test puts
 /// the root into a SceneGraph of its own.

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "SharedData.h"
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/loaders/AffParser.h"
 #include "tracegraph/loaders/KochanekBartels.h"
@@ -47,14 +48,9 @@ const fs::path kMuseum = kData / "bart/museum/aff/museum5.aff";
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 /// Skips a test (with the reason) when the shared BART scenes are not installed.
-struct BartAvailable {
-  boost::test_tools::assertion_result operator()(utf::test_unit_id) const {
-    boost::test_tools::assertion_result r(fs::exists(kKitchen) && fs::exists(kRobots) &&
-                                          fs::exists(kMuseum));
-    r.message() << "BART scenes not found under " << kData.string() << " (TG_DATA_DIR); skipped";
-    return r;
-  }
-};
+tg::test::FilesAvailable BartAvailable() {
+  return {"BART scenes", kData, {kKitchen, kRobots, kMuseum}};
+}
 
 /// Each scene is parsed once and shared by the tests.
 const tg::AffDocument& scene(const fs::path& file) {

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "NodeQueries.h"
+#include "SharedData.h"
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/loaders/AssimpLoader.h"
 #include "tracegraph/nodes/Material.h"
@@ -26,42 +28,14 @@ namespace fs = std::filesystem;
 namespace utf = boost::unit_test;
 namespace tt = boost::test_tools;
 using namespace tg;
+using namespace tg::test;
 
 namespace {
 
 const fs::path kGltf = fs::path(TG_DATA_DIR) / "gltf";
 
-struct SamplesAvailable {
-  tt::assertion_result operator()(utf::test_unit_id) const {
-    tt::assertion_result r(fs::exists(kGltf / "BoxAnimated/BoxAnimated.gltf"));
-    r.message() << "glTF samples not found under " << kGltf.string() << " (TG_DATA_DIR); skipped";
-    return r;
-  }
-};
-
-template <typename F>
-void walk(Node* n, F&& f) {
-  f(n);
-  if (auto* g = dynamic_cast<Group*>(n))
-    for (const ref_ptr<Node>& c : g->children()) walk(c.get(), f);
-}
-
-template <typename T>
-std::set<T*> distinct(Node* root) {
-  std::set<T*> out;
-  walk(root, [&](Node* n) {
-    if (auto* t = dynamic_cast<T*>(n)) out.insert(t);
-  });
-  return out;
-}
-
-template <typename T>
-T* named(Node* root, const std::string& name) {
-  T* found = nullptr;
-  walk(root, [&](Node* n) {
-    if (!found && n->name() == name) found = dynamic_cast<T*>(n);
-  });
-  return found;
+tg::test::FilesAvailable SamplesAvailable() {
+  return {"glTF samples", kGltf, {kGltf / "BoxAnimated/BoxAnimated.gltf"}};
 }
 
 bool near(const Vec3f& a, const Vec3f& b, float tol = 1e-4f) {

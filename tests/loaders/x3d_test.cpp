@@ -11,6 +11,8 @@
 #include <set>
 #include <string>
 
+#include "NodeQueries.h"
+#include "SharedData.h"
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/loaders/X3dLoader.h"
 #include "tracegraph/nodes/Material.h"
@@ -24,44 +26,14 @@
 namespace fs = std::filesystem;
 namespace utf = boost::unit_test;
 using namespace tg;
+using namespace tg::test;
 
 namespace {
 
 const fs::path kX3d = fs::path(TG_DATA_DIR) / "x3d";
 
-struct SamplesAvailable {
-  boost::test_tools::assertion_result operator()(utf::test_unit_id) const {
-    boost::test_tools::assertion_result r(fs::exists(kX3d / "HelloWorld.x3d") &&
-                                          fs::exists(kX3d / "ComputerKeyboard.x3d"));
-    r.message() << "X3D samples not found under " << kX3d.string() << " (TG_DATA_DIR); skipped";
-    return r;
-  }
-};
-
-/// Every node below `n` (depth first, shared nodes once per path).
-template <typename F>
-void walk(Node* n, F&& f) {
-  f(n);
-  if (auto* g = dynamic_cast<Group*>(n))
-    for (const ref_ptr<Node>& c : g->children()) walk(c.get(), f);
-}
-
-template <typename T>
-std::set<T*> distinct(Node* root) {
-  std::set<T*> out;
-  walk(root, [&](Node* n) {
-    if (auto* t = dynamic_cast<T*>(n)) out.insert(t);
-  });
-  return out;
-}
-
-template <typename T>
-T* named(Node* root, const std::string& name) {
-  T* found = nullptr;
-  walk(root, [&](Node* n) {
-    if (!found && n->name() == name) found = dynamic_cast<T*>(n);
-  });
-  return found;
+tg::test::FilesAvailable SamplesAvailable() {
+  return {"X3D samples", kX3d, {kX3d / "HelloWorld.x3d", kX3d / "ComputerKeyboard.x3d"}};
 }
 
 /// Wraps a Scene body into a minimal X3D document.
