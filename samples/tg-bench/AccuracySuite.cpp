@@ -148,45 +148,35 @@ void leakCase(BenchReport& report, const CommonOptions& common, const Sizes& siz
       row.extra.push_back(realField("leaks_per_1e7", per1e7(leaks, rays.size())));
     };
 
-    // Whole scenes: a ray that finds no triangle at all has leaked.
+    // Whole scenes: a ray that finds no triangle at all has leaked. `trace` fills one outcome
+    // per ray; the row gets its time and the rays that found nothing.
+    const auto leakRow = [&](const std::string& impl, const auto& trace) {
+      std::vector<RayOutcome> out(rays.size());
+      const TimingSummary t = measureRepeated(
+          sizes.reps, [&](int) { return timeMs([&] { arena.execute([&] { trace(out); }); }); });
+      const auto leaks = static_cast<std::size_t>(
+          std::count_if(out.begin(), out.end(), [](const RayOutcome& o) { return !o.hit(); }));
+      addLeaks(addRow(report, caseName, impl, t), leaks);
+    };
     for (const AccelVariant& v : accelVariants()) {
       Scene scene(v.options);
       scene.createInstance(scene.createObject(c.mesh));
       arena.execute([&] { scene.commit(); });
-      std::vector<RayOutcome> out;
-      const TimingSummary t = measureRepeated(sizes.reps, [&](int) {
-        return timeMs([&] { arena.execute([&] { out = traceOutcomes(scene, rays); }); });
-      });
-      const auto leaks = static_cast<std::size_t>(
-          std::count_if(out.begin(), out.end(), [](const RayOutcome& o) { return !o.hit(); }));
-      addLeaks(addRow(report, caseName, "tracegraph-" + v.name, t), leaks);
-    }
-    // Packets of the default engine: the aimed rays leave one origin towards neighbouring
-    // vertices and edges, so consecutive rays make coherent packets.
-    {
-      Scene scene;
-      scene.createInstance(scene.createObject(c.mesh));
-      arena.execute([&] { scene.commit(); });
-      std::vector<RayOutcome> out;
-      const TimingSummary t = measureRepeated(sizes.reps, [&](int) {
-        return timeMs([&] { arena.execute([&] { out = traceOutcomesInPackets(scene, rays); }); });
-      });
-      const auto leaks = static_cast<std::size_t>(
-          std::count_if(out.begin(), out.end(), [](const RayOutcome& o) { return !o.hit(); }));
-      addLeaks(addRow(report, caseName, "tracegraph-bvh-packets", t), leaks);
+      leakRow("tracegraph-" + v.name,
+              [&](std::vector<RayOutcome>& out) { out = traceOutcomes(scene, rays); });
+      // Packets through the same BVH: the aimed rays leave one origin towards neighbouring
+      // vertices and edges, so consecutive rays make coherent packets.
+      if (v.name == "bvh")
+        leakRow("tracegraph-bvh-packets",
+                [&](std::vector<RayOutcome>& out) { out = traceOutcomesInPackets(scene, rays); });
     }
 #ifdef TG_HAVE_EMBREE
     {
       EmbreeDevice device(common.threads);
       EmbreeBenchScene peer(device, singleMesh(c.mesh, c.name), EmbreeQuality::High);
       arena.execute([&] { peer.commit(); });
-      std::vector<RayOutcome> out(rays.size());
-      const TimingSummary t = measureRepeated(sizes.reps, [&](int) {
-        return timeMs([&] { arena.execute([&] { peer.intersect1(rays, out); }); });
-      });
-      const auto leaks = static_cast<std::size_t>(
-          std::count_if(out.begin(), out.end(), [](const RayOutcome& o) { return !o.hit(); }));
-      addLeaks(addRow(report, caseName, "embree-intersect1", t), leaks);
+      leakRow("embree-intersect1",
+              [&](std::vector<RayOutcome>& out) { peer.intersect1(rays, out); });
     }
 #else
     (void)common;
