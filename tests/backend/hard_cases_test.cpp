@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "IntervalChecks.h"
 #include "TestGeometry.h"
 #include "tracegraph/backend/Error.h"
 
@@ -334,28 +335,10 @@ BOOST_AUTO_TEST_CASE(case10_singular_matrices_rejected_tiny_scales_render) {
 
 BOOST_AUTO_TEST_CASE(case11_interval_ends_are_inclusive) {
   for (AccelKind kind : kKinds) {
-    TriangleMesh tri;
-    tri.positions = {{-1, -1, 5}, {1, -1, 5}, {0, 1, 5}};
-    tri.indices = {0, 1, 2};
     Scene scene(optionsFor(kind));
-    scene.createInstance(scene.createObject(tri));
+    scene.createInstance(scene.createObject(intervalTriangle()));
     scene.commit();
-    Hit hit;
-    // Origin on the triangle, tnear = 0: hit at t = 0.
-    BOOST_TEST(scene.intersect({{0, 0, 5}, 0.0f, {0, 0, 1}, kInfinity}, hit));
-    BOOST_TEST(hit.t == 0.0f);
-    // tfar exactly at the hit: hit; one ulp short: miss.
-    BOOST_TEST(scene.intersect({{0, 0, 0}, 0.0f, {0, 0, 1}, 5.0f}, hit));
-    BOOST_TEST(hit.t == 5.0f);
-    BOOST_TEST(!scene.intersect({{0, 0, 0}, 0.0f, {0, 0, 1}, std::nextafter(5.0f, 0.0f)}, hit));
-    BOOST_TEST(scene.occluded({{0, 0, 0}, 0.0f, {0, 0, 1}, 5.0f}));
-    BOOST_TEST(!scene.occluded({{0, 0, 0}, 0.0f, {0, 0, 1}, std::nextafter(5.0f, 0.0f)}));
-    // tnear exactly at the hit: hit; one ulp beyond: miss.
-    BOOST_TEST(scene.intersect({{0, 0, 0}, 5.0f, {0, 0, 1}, kInfinity}, hit));
-    BOOST_TEST(
-        !scene.intersect({{0, 0, 0}, std::nextafter(5.0f, 6.0f), {0, 0, 1}, kInfinity}, hit));
-    // Origin at the border of the box, looking along it.
-    BOOST_TEST(scene.intersect({{-1, -1, 0}, 0.0f, {0, 0, 1}, kInfinity}, hit));
+    checkInclusiveIntervalEnds(scene);
   }
 }
 
