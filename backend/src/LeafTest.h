@@ -2,10 +2,25 @@
 // Internal header: not installed.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
 #include "tracegraph/backend/KdTree.h"
 #include "tracegraph/backend/ObjectAccel.h"
 
 namespace tg::detail {
+
+/// The object-space geometric normal of a hit as the float that Hit::geometricNormal carries
+/// until Scene maps it to world space. The double cross product of a tiny triangle can lie below
+/// float's range (edges of 1e-20 give 1e-40); it is then scaled by a power of two, which keeps
+/// its direction exactly. Its length does not matter: Scene normalises after the mapping.
+inline Vec3f objectNormalForHit(const Vec3d& n) {
+  const double m = std::max({std::abs(n.x), std::abs(n.y), std::abs(n.z)});
+  if (m > 0x1p-100 && m < 0x1p100) return Vec3f(n);
+  int exponent = 0;
+  std::frexp(m, &exponent);
+  return Vec3f(n * std::ldexp(1.0, -exponent));
+}
 
 /// Tests `tri` (mesh triangle `prim`) against `ray` for t in [tnear, ray.tfar]; when it is hit
 /// and precedes `hit` (hitPrecedes), records it in `hit` and lowers ray.tfar to its t.
@@ -20,6 +35,7 @@ inline bool recordTriangleHit(ObjectRay& ray, const TriangleVertices& tri, std::
   hit.primId = prim;
   hit.instanceId = ray.instanceId;
   hit.objectId = ray.objectId;
+  hit.geometricNormal = objectNormalForHit(th.normal);
   ray.tfar = th.t;
   return true;
 }

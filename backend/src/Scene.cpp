@@ -318,15 +318,13 @@ bool Scene::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const {
 }
 
 void Scene::fillGeometricNormal(Hit& hit) const {
-  // Geometric normal in double: tiny triangles must not underflow to a zero normal. The inverse
-  // transpose keeps it perpendicular under non-uniform scale and points it to the same side of
-  // the surface after a mirroring (negative determinant) transform.
-  const TriangleMesh& mesh = impl_->objects[hit.objectId].committed;
-  const Vec3d a(mesh.positions[mesh.indices[3 * hit.primId]]);
-  const Vec3d b(mesh.positions[mesh.indices[3 * hit.primId + 1]]);
-  const Vec3d c(mesh.positions[mesh.indices[3 * hit.primId + 2]]);
-  const Vec3d n =
-      impl_->instances[hit.instanceId].worldToObject.transformTransposed(cross(b - a, c - a));
+  // The leaf test left the object-space normal, cross(v1 - v0, v2 - v0) from the double t
+  // refinement, scaled into float's range (objectNormalForHit): reading the triangle again from
+  // the mesh here would cost cache misses on every hit. Mapped in double: the inverse transpose
+  // keeps it perpendicular under non-uniform scale and points it to the same side of the
+  // surface after a mirroring (negative determinant) transform.
+  const Vec3d n = impl_->instances[hit.instanceId].worldToObject.transformTransposed(
+      Vec3d(hit.geometricNormal));
   hit.geometricNormal = Vec3f(normalize(n));
 }
 

@@ -64,6 +64,9 @@ struct TriangleHit {
   /// Distance along the ray and barycentrics of vertices b and c.
   float t = 0.0f, u = 0.0f, v = 0.0f;
   ///@}
+  /// cross(b - a, c - a) in double, as computed for t: the unnormalised geometric normal, never
+  /// zero for a hit.
+  Vec3d normal;
 };
 
 /// Tests the triangle (a, b, c) against the ray for t in [ray.tnear, tfar]. Degenerate
@@ -114,6 +117,7 @@ inline bool intersectWatertight(const WatertightRay& ray, const Vec3f& a, const 
   out.t = t;
   out.u = V * invDet;
   out.v = W * invDet;
+  out.normal = n;
   return true;
 }
 
