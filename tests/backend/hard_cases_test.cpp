@@ -229,6 +229,32 @@ BOOST_AUTO_TEST_CASE(case06_huge_and_tiny_scales) {
   BOOST_TEST_MESSAGE("largest translation with full agreement: " << largestAgreeing);
 }
 
+BOOST_AUTO_TEST_CASE(case06_normals_of_tiny_and_huge_triangles_stay_unit) {
+  // cross(b - a, c - a) of these triangles lies far outside float's range (1e-44 and 1e40): the
+  // normal must still come out unit length and perpendicular, flat and through an instance.
+  for (double size : {1e-22, 1e20}) {
+    TriangleMesh mesh;
+    mesh.positions = {Vec3f(0, 0, 0), Vec3f(Vec3d(size, 0, 0)), Vec3f(Vec3d(0, size, size))};
+    mesh.indices = {0, 1, 2};
+    for (const Affine3d& m : {Affine3d::identity(), Affine3d::scaling({1.0, 1.0, -4.0})}) {
+      Scene scene;
+      scene.createInstance(scene.createObject(mesh), m);
+      scene.commit();
+      // Through the triangle's centroid, along -z from above (+z below for the mirrored one).
+      const Vec3d centroid = m.transformPoint(Vec3d(size / 3, size / 3, size / 3));
+      const Vec3d origin = centroid + Vec3d(0, 0, 2 * size);
+      Hit hit;
+      BOOST_TEST_REQUIRE(
+          scene.intersect({Vec3f(origin), 0.0f, Vec3f(Vec3d(0, 0, -size)), kInfinity}, hit));
+      // Expected: the inverse transpose of m applied to (0, -1, 1), up to sign.
+      const Vec3d expected = normalize(Vec3d(0, -1, 1 / m.m[2][2]));
+      const Vec3d n(hit.geometricNormal);
+      BOOST_TEST(std::abs(length(n) - 1.0) < 1e-6);
+      BOOST_TEST(std::abs(std::abs(dot(n, expected)) - 1.0) < 1e-6);
+    }
+  }
+}
+
 BOOST_AUTO_TEST_CASE(case07_instanced_t_within_16_ulps_up_to_1e6) {
   const TriangleMesh mesh = makeIcosphere(3);
   for (double translation : {1.0, 1e2, 1e4, 1e6}) {
