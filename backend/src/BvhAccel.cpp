@@ -345,22 +345,26 @@ namespace {
 /// Triangles whose candidates one filter call computes.
 constexpr std::uint32_t kFilterBatch = 8;
 
-/// What the packet leaf callbacks need; passed through the kernel as `user`. Lanes in
-/// `filtered` share an axis permutation and go through the SIMD pre-filter (`triangleRays`);
-/// the others are tested lane by lane.
+/// What the packet leaf callbacks of both queries need; passed through the kernel as `user`.
+/// Lanes in `filtered` share an axis permutation and go through the SIMD pre-filter
+/// (`triangleRays`); the others are tested lane by lane.
 struct PacketLeafContext {
   const BvhAccel* accel;
-  const ObjectRayPacket* packet;
   TraversalContext* ctx;
   PacketTriangleRays triangleRays;
   unsigned filtered = 0;
 };
 
-/// The closest-hit callback's context.
+/// The closest-hit callbacks' context: they lower the lanes' tfar in the packet itself.
 struct ClosestLeafContext : PacketLeafContext {
-  ObjectRayPacket* rays;
+  ObjectRayPacket* packet;
   Hit* hits;
   unsigned changed = 0;
+};
+
+/// The any-hit callbacks' context.
+struct OccludedLeafContext : PacketLeafContext {
+  const ObjectRayPacket* packet;
 };
 
 /// Calls test(lane, k) for every (lane, triangle) pair of the leaf that may hit, in triangle
@@ -398,7 +402,7 @@ unsigned intersectPacketLeaf(void* user, std::uint32_t first, std::uint32_t coun
                              PacketBoxRays& rays) {
   auto& c = *static_cast<ClosestLeafContext*>(user);
   forEachCandidate(c, first, count, lanes, [&](unsigned l, std::uint32_t k) {
-    ObjectRay& ray = c.rays->rays[l];
+    ObjectRay& ray = c.packet->rays[l];
     if (c.accel->intersectTriangle(ray, c.hits[l], k)) {
       rays.tfar[l] = ray.tfar;
       c.changed |= 1u << l;
@@ -410,7 +414,7 @@ unsigned intersectPacketLeaf(void* user, std::uint32_t first, std::uint32_t coun
 
 unsigned occludedPacketLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
                             PacketBoxRays&) {
-  const auto& c = *static_cast<const PacketLeafContext*>(user);
+  const auto& c = *static_cast<const OccludedLeafContext*>(user);
   unsigned blocked = 0;
   forEachCandidate(c, first, count, lanes, [&](unsigned l, std::uint32_t k) {
     if (!c.accel->occludedTriangle(c.packet->rays[l], k)) return false;
@@ -422,15 +426,15 @@ unsigned occludedPacketLeaf(void* user, std::uint32_t first, std::uint32_t count
 
 unsigned intersectSingleLane(void* user, std::uint32_t child, unsigned lane, PacketBoxRays& rays) {
   auto& c = *static_cast<ClosestLeafContext*>(user);
-  if (c.accel->intersectSubtree(c.rays->rays[lane], c.hits[lane], child, *c.ctx)) {
-    rays.tfar[lane] = c.rays->rays[lane].tfar;
+  if (c.accel->intersectSubtree(c.packet->rays[lane], c.hits[lane], child, *c.ctx)) {
+    rays.tfar[lane] = c.packet->rays[lane].tfar;
     c.changed |= 1u << lane;
   }
   return 0;
 }
 
 unsigned occludedSingleLane(void* user, std::uint32_t child, unsigned lane, PacketBoxRays&) {
-  const auto& c = *static_cast<const PacketLeafContext*>(user);
+  const auto& c = *static_cast<const OccludedLeafContext*>(user);
   return c.accel->occludedSubtree(c.packet->rays[lane], child, *c.ctx) ? 1u : 0u;
 }
 
@@ -482,7 +486,6 @@ unsigned BvhAccel::intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit*
   c.accel = this;
   c.packet = &packet;
   c.ctx = &ctx;
-  c.rays = &packet;
   c.hits = hits;
   const unsigned coherent = loadObjectPacket(packet, lanes, rays, c);
   if (__builtin_popcount(coherent) >= kMinPacketLanes) {
@@ -498,7 +501,7 @@ unsigned BvhAccel::occludedPacket(const ObjectRayPacket& packet, unsigned lanes,
                                   TraversalContext& ctx) const {
   if (lanes == 0 || nodes_.empty()) return 0;
   PacketBoxRays rays;
-  PacketLeafContext c;
+  OccludedLeafContext c;
   c.accel = this;
   c.packet = &packet;
   c.ctx = &ctx;
