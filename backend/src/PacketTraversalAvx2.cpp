@@ -44,16 +44,10 @@ struct Avx2NodeTest {
   }
 };
 
-unsigned traverseAvx2(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
-                      PacketLeafFn leaf, PacketSingleFn single, void* user,
-                      std::uint64_t& nodeVisits) {
-  return traversePacket<Avx2NodeTest>(nodes, rays, lanes, anyHit, leaf, single, user, nodeVisits);
-}
-
 }  // namespace
 
 PacketKernels packetKernelsAvx2() {
-  return {&traverseAvx2, &filterTrianglesWith<Lanes8>};
+  return packetKernelsWith<Avx2NodeTest, Lanes8>();
 }
 
 }  // namespace tg::detail

@@ -65,16 +65,10 @@ struct Avx512NodeTest {
   }
 };
 
-unsigned traverseAvx512(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
-                        PacketLeafFn leaf, PacketSingleFn single, void* user,
-                        std::uint64_t& nodeVisits) {
-  return traversePacket<Avx512NodeTest>(nodes, rays, lanes, anyHit, leaf, single, user, nodeVisits);
-}
-
 }  // namespace
 
 PacketKernels packetKernelsAvx512() {
-  return {&traverseAvx512, &filterTrianglesWith<Lanes8>};
+  return packetKernelsWith<Avx512NodeTest, Lanes8>();
 }
 
 }  // namespace tg::detail

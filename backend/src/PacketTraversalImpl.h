@@ -8,6 +8,7 @@
 #pragma once
 
 #include "PacketKernel.h"
+#include "PacketTriangleFilter.h"
 
 namespace tg::detail {
 namespace {
@@ -108,6 +109,13 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
       }
     }
   }
+}
+
+/// The kernels of one instruction set: the walk with its node test and the triangle pre-filter
+/// with its lane type.
+template <class NodeTest, class Lanes>
+PacketKernels packetKernelsWith() {
+  return {&traversePacket<NodeTest>, &filterTrianglesWith<Lanes>};
 }
 
 }  // namespace

@@ -106,17 +106,10 @@ struct Lanes1 {
 using PortableLanes = Lanes1;
 #endif
 
-unsigned traversePortable(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
-                          PacketLeafFn leaf, PacketSingleFn single, void* user,
-                          std::uint64_t& nodeVisits) {
-  return traversePacket<PortableNodeTest>(nodes, rays, lanes, anyHit, leaf, single, user,
-                                          nodeVisits);
-}
-
 }  // namespace
 
 PacketKernels packetKernelsPortable() {
-  return {&traversePortable, &filterTrianglesWith<PortableLanes>};
+  return packetKernelsWith<PortableNodeTest, PortableLanes>();
 }
 
 }  // namespace tg::detail
