@@ -126,19 +126,21 @@ struct BinSet {
   /// Bins one primitive on all three axes.
   void addOne(const BvhPrim& p, const BinMapping& map) {
     const __m128 lo = primLower(p), hi = primUpper(p);
-    alignas(16) std::int32_t b[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(b), map.bins(lo, hi));
-    for (int a = 0; a < 3; ++a) addTo(a, b[a], lo, hi);
+    // Lanes moved to general registers directly: a store and three reloads cost more here.
+    const __m128i b = map.bins(lo, hi);
+    addTo(0, _mm_cvtsi128_si32(b), lo, hi);
+    addTo(1, _mm_cvtsi128_si32(_mm_shuffle_epi32(b, 0x55)), lo, hi);
+    addTo(2, _mm_cvtsi128_si32(_mm_shuffle_epi32(b, 0xAA)), lo, hi);
   }
 
-  /// Bins prims[begin, end) on `axis` only.
-  void addOnAxis(const BvhPrim* prims, std::size_t begin, std::size_t end, const BinMapping& map,
-                 int axis) {
+  /// Bins prims[begin, end) on `axis` only, whose mapping is `origin` and `scale` (the
+  /// scalar binOf gives the same bins as BinMapping).
+  void addOnAxis(const BvhPrim* prims, std::size_t begin, std::size_t end, int axis, float origin,
+                 float scale) {
     for (std::size_t i = begin; i < end; ++i) {
-      const __m128 lo = primLower(prims[i]), hi = primUpper(prims[i]);
-      alignas(16) std::int32_t b[4];
-      _mm_store_si128(reinterpret_cast<__m128i*>(b), map.bins(lo, hi));
-      addTo(axis, b[axis], lo, hi);
+      const BvhPrim& p = prims[i];
+      const int b = binOf(p.lower[axis] + p.upper[axis], origin, scale, used);
+      addTo(axis, b, primLower(p), primUpper(p));
     }
   }
 

@@ -130,7 +130,8 @@ class Builder {
   }
 
   /// Bins `r` on all axes (axis < 0) or on one.
-  void binRange(const Range& r, const BinMapping& map, int axis, BinSet& bins) const {
+  void binRange(const Range& r, const BinMapping& map, const float* origin, const float* scale,
+                int axis, BinSet& bins) const {
     const BvhPrim* p = prims_.data();
     const auto binBlock = [&](std::size_t begin, std::size_t end, BinSet& acc) {
       if (axis < 0 && end - begin >= kInterleaveMin) {
@@ -141,7 +142,7 @@ class Builder {
       } else if (axis < 0) {
         acc.add(p, begin, end, map);
       } else {
-        acc.addOnAxis(p, begin, end, map, axis);
+        acc.addOnAxis(p, begin, end, axis, origin[axis], scale[axis]);
       }
     };
     if (r.count() > options_.parallelThreshold) {
@@ -197,7 +198,7 @@ class Builder {
                          _mm_set1_ps(static_cast<float>(binCount - 1))};
     BinSet bins;
     bins.reset(binCount);
-    binRange(r, map, options_.allAxes ? -1 : median.axis, bins);
+    binRange(r, map, origin, scale, options_.allAxes ? -1 : median.axis, bins);
     const BinSplit found = sweepBins(bins, active);
     if (found.axis < 0) return mayBeLeaf ? leaf : median;
     Split best;
@@ -307,6 +308,16 @@ class Builder {
     Child inner[4];
     std::uint32_t innerIndex[4];
     int innerCount = 0;
+    std::size_t leafCount = 0;
+    for (int c = 0; c < n; ++c) innerCount += children[c].split.kind == Split::Kind::Leaf ? 0 : 1;
+    // Children are numbered after their parent, which lets a refit run bottom-up by walking
+    // the nodes backwards. One atomic step per node for the numbers and one for the leaf count:
+    // on small sequential builds the atomics would otherwise be a visible share of the time.
+    std::uint32_t nextIndex = innerCount == 0
+                                  ? 0
+                                  : nextNode_.fetch_add(static_cast<std::uint32_t>(innerCount),
+                                                        std::memory_order_relaxed);
+    innerCount = 0;
     bool large = false;
     for (int c = 0; c < n; ++c) {
       const Child& child = children[c];
@@ -314,11 +325,9 @@ class Builder {
       if (child.split.kind == Split::Kind::Leaf) {
         node.child[c] = static_cast<std::uint32_t>(child.range.begin);
         node.count[c] = static_cast<std::uint32_t>(child.range.count());
-        leaves_.fetch_add(1, std::memory_order_relaxed);
+        ++leafCount;
       } else {
-        // Children are numbered after their parent, which lets a refit run bottom-up by
-        // walking the nodes backwards.
-        const std::uint32_t childIndex = nextNode_.fetch_add(1, std::memory_order_relaxed);
+        const std::uint32_t childIndex = nextIndex++;
         node.child[c] = childIndex;
         node.count[c] = 0;
         inner[innerCount] = child;
@@ -326,6 +335,7 @@ class Builder {
         large = large || child.range.count() > options_.parallelThreshold;
       }
     }
+    if (leafCount != 0) leaves_.fetch_add(leafCount, std::memory_order_relaxed);
     out_.nodes[index] = node;
     const auto recurse = [&](int k) {
       buildNode(innerIndex[k], inner[k].range, inner[k].split, depth + 1);
