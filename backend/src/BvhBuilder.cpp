@@ -9,6 +9,8 @@
 // per level of the few top levels.
 #include "BvhBuilder.h"
 
+#include "BvhBinning.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -25,12 +27,16 @@ namespace {
 /// halves a range, which bounds the depth (kBvh4MaxDepth) however skewed the input is.
 constexpr int kMedianDepth = 32;
 
+/// Ranges with at least this many primitives bin into two alternating bin sets (see
+/// BinSet::addInterleaved); below it, preparing and merging the second set costs more.
+constexpr std::size_t kInterleaveMin = 256;
+
 /// A contiguous range of primitives with its bounds and the bounds of its centroids (stored as
 /// lower + upper: twice the centre, which saves a multiplication and orders the same).
 struct Range {
   std::size_t begin = 0, end = 0;
-  Box3f bounds;
-  Box3f centroids;
+  SseBox bounds;
+  SseBox centroids;
   std::size_t count() const { return end - begin; }
 };
 
@@ -48,70 +54,15 @@ inline float centroid(const BvhPrim& p, int axis) {
   return p.lower[axis] + p.upper[axis];
 }
 
-/// Bin of a centroid coordinate. Clamping in float first keeps the conversion defined for any
-/// input (a NaN or an overflowing product lands in bin 0 or the last bin).
-inline int binOf(float c, float origin, float scale, int bins) {
-  float f = (c - origin) * scale;
-  f = f > 0.0f ? f : 0.0f;
-  const auto last = static_cast<float>(bins - 1);
-  f = f < last ? f : last;
-  return static_cast<int>(f);
-}
-
-/// Per-axis bin boxes and counts of one range. Plain arrays of which only the first `used`
-/// bins are initialised: most ranges are small and bin into a few bins, and initialising all of
-/// them would cost more than binning the range.
-struct Bins {
-  struct Bin {
-    float lower[3], upper[3];
-    std::uint32_t count;
-  };
-  Bin bin[3][BvhBuildOptions::kMaxBins];
-  int used;
-
-  explicit Bins(int bins) : used(bins) {
-    for (auto& axis : bin)
-      for (int b = 0; b < used; ++b) {
-        for (int k = 0; k < 3; ++k) {
-          axis[b].lower[k] = std::numeric_limits<float>::infinity();
-          axis[b].upper[k] = -std::numeric_limits<float>::infinity();
-        }
-        axis[b].count = 0;
-      }
-  }
-  void add(int axis, int b, const BvhPrim& p) {
-    Bin& x = bin[axis][b];
-    for (int k = 0; k < 3; ++k) {
-      x.lower[k] = std::min(x.lower[k], p.lower[k]);
-      x.upper[k] = std::max(x.upper[k], p.upper[k]);
-    }
-    ++x.count;
-  }
-  void merge(const Bins& o) {
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < used; ++b) {
-        Bin& x = bin[a][b];
-        const Bin& y = o.bin[a][b];
-        for (int k = 0; k < 3; ++k) {
-          x.lower[k] = std::min(x.lower[k], y.lower[k]);
-          x.upper[k] = std::max(x.upper[k], y.upper[k]);
-        }
-        x.count += y.count;
-      }
-  }
-  Box3f box(int axis, int b) const {
-    const Bin& x = bin[axis][b];
-    return {{x.lower[0], x.lower[1], x.lower[2]}, {x.upper[0], x.upper[1], x.upper[2]}};
-  }
-};
-
 /// Bounds and centroid bounds of a range, in parallel when it is large. Min and max are exact,
 /// so the result does not depend on how the range is cut into tasks.
 struct RangeBounds {
-  Box3f bounds, centroids;
+  SseBox bounds, centroids;
   void add(const BvhPrim& p) {
-    bounds.extend(p.box());
-    centroids.extend(Vec3f{centroid(p, 0), centroid(p, 1), centroid(p, 2)});
+    const __m128 lo = primLower(p), hi = primUpper(p);
+    bounds.extend(lo, hi);
+    const __m128 c = _mm_add_ps(lo, hi);
+    centroids.extend(c, c);
   }
   void merge(const RangeBounds& o) {
     bounds.extend(o.bounds);
@@ -137,7 +88,7 @@ class Builder {
       return;
     }
     Range root = makeRange(0, prims_.size());
-    out_.bounds = root.bounds;
+    out_.bounds = root.bounds.box();
     // Every inner node has at least two children, except a root that is a single leaf, so
     // there are at most as many nodes as primitives.
     out_.nodes.resize(prims_.size());
@@ -146,7 +97,7 @@ class Builder {
     if (split.kind == Split::Kind::Leaf) {
       Bvh4Node& node = out_.nodes[0];
       node = Bvh4Node::makeEmpty();
-      node.setBounds(0, root.bounds);
+      node.setBounds(0, root.bounds.box());
       node.child[0] = 0;
       node.count[0] = static_cast<std::uint32_t>(root.count());
       leaves_.store(1, std::memory_order_relaxed);
@@ -178,26 +129,32 @@ class Builder {
     return {begin, end, rb.bounds, rb.centroids};
   }
 
-  void binRange(const Range& r, const std::array<float, 3>& origin,
-                const std::array<float, 3>& scale, const std::array<bool, 3>& active,
-                Bins& bins) const {
-    const auto binBlock = [&](std::size_t begin, std::size_t end, Bins& acc) {
-      for (std::size_t i = begin; i < end; ++i) {
-        const BvhPrim& p = prims_[i];
-        for (int a = 0; a < 3; ++a) {
-          if (!active[a]) continue;
-          acc.add(a, binOf(centroid(p, a), origin[a], scale[a], acc.used), p);
-        }
+  /// Bins `r` on all axes (axis < 0) or on one.
+  void binRange(const Range& r, const BinMapping& map, const float* origin, const float* scale,
+                int axis, BinSet& bins) const {
+    const BvhPrim* p = prims_.data();
+    const auto binBlock = [&](std::size_t begin, std::size_t end, BinSet& acc) {
+      if (axis < 0 && end - begin >= kInterleaveMin) {
+        BinSet odd;
+        odd.reset(acc.used);
+        acc.addInterleaved(p, begin, end, map, odd);
+        acc.merge(odd);
+      } else if (axis < 0) {
+        acc.add(p, begin, end, map);
+      } else {
+        acc.addOnAxis(p, begin, end, axis, origin[axis], scale[axis]);
       }
     };
     if (r.count() > options_.parallelThreshold) {
+      BinSet empty;
+      empty.reset(bins.used);
       bins = tbb::parallel_reduce(
-          tbb::blocked_range<std::size_t>(r.begin, r.end, 1024), Bins(bins.used),
-          [&](const tbb::blocked_range<std::size_t>& block, Bins acc) {
+          tbb::blocked_range<std::size_t>(r.begin, r.end, 1024), empty,
+          [&](const tbb::blocked_range<std::size_t>& block, BinSet acc) {
             binBlock(block.begin(), block.end(), acc);
             return acc;
           },
-          [&](Bins a, const Bins& b) {
+          [](BinSet a, const BinSet& b) {
             a.merge(b);
             return a;
           });
@@ -212,70 +169,53 @@ class Builder {
     const bool mayBeLeaf = n <= options_.maxLeafSize;
     Split leaf;
     if (n <= 1) return leaf;
+    const Box3f centroids = r.centroids.box();
+    const Vec3f extent = centroids.extent();
     Split median;
     median.kind = Split::Kind::Median;
-    median.axis = maxDimension(r.centroids.extent());
+    median.axis = maxDimension(extent);
     if (depth >= kMedianDepth) return mayBeLeaf ? leaf : median;
 
     // More bins than primitives only adds empty bins to sweep.
     const int binCount = std::min(bins_, static_cast<int>(std::max<std::size_t>(n, 4)));
-    const Vec3f extent = r.centroids.extent();
-    std::array<bool, 3> active{};
-    std::array<float, 3> origin{}, scale{};
+    unsigned active = 0;
+    alignas(16) float origin[4] = {}, scale[4] = {};
     for (int a = 0; a < 3; ++a) {
-      active[a] = extent[a] > 0.0f && (options_.allAxes || a == median.axis);
-      origin[a] = r.centroids.lower[a];
+      if (!(extent[a] > 0.0f)) continue;
+      active |= 1u << a;
+      origin[a] = centroids.lower[a];
       // Slightly fewer than `bins` bins per extent, so the largest centroid stays in the last
       // bin after rounding.
-      scale[a] = active[a] ? static_cast<float>(binCount) * 0.99999f / extent[a] : 0.0f;
+      scale[a] = static_cast<float>(binCount) * 0.99999f / extent[a];
     }
-    if (!active[0] && !active[1] && !active[2]) {
+    if (active == 0) {
       // All centroids coincide (e.g. instances at one place): no plane separates them.
       return mayBeLeaf ? leaf : median;
     }
-    Bins bins(binCount);
-    binRange(r, origin, scale, active, bins);
-
-    // Sweep: cost of a split after bin b is area(left) * |left| + area(right) * |right|.
-    double bestCost = std::numeric_limits<double>::infinity();
+    if (!options_.allAxes) active &= 1u << median.axis;
+    if (active == 0) return mayBeLeaf ? leaf : median;
+    const BinMapping map{_mm_load_ps(origin), _mm_load_ps(scale),
+                         _mm_set1_ps(static_cast<float>(binCount - 1))};
+    BinSet bins;
+    bins.reset(binCount);
+    binRange(r, map, origin, scale, options_.allAxes ? -1 : median.axis, bins);
+    const BinSplit found = sweepBins(bins, active);
+    if (found.axis < 0) return mayBeLeaf ? leaf : median;
     Split best;
-    for (int a = 0; a < 3; ++a) {
-      if (!active[a]) continue;
-      double rightCost[BvhBuildOptions::kMaxBins];  // written for bins [1, binCount) below
-      Box3f acc;
-      std::uint32_t count = 0;
-      for (int b = binCount - 1; b > 0; --b) {
-        acc.extend(bins.box(a, b));
-        count += bins.bin[a][b].count;
-        rightCost[b] = count == 0 ? -1.0 : double(acc.area()) * count;
-      }
-      acc = Box3f{};
-      count = 0;
-      for (int b = 1; b < binCount; ++b) {
-        acc.extend(bins.box(a, b - 1));
-        count += bins.bin[a][b - 1].count;
-        if (count == 0 || rightCost[b] < 0.0) continue;
-        const double cost = double(acc.area()) * count + rightCost[b];
-        if (cost < bestCost) {
-          bestCost = cost;
-          best.kind = Split::Kind::Binned;
-          best.axis = a;
-          best.bins = binCount;
-          best.bin = b;
-          best.scale = scale[a];
-          best.origin = origin[a];
-        }
-      }
-    }
-    if (best.kind != Split::Kind::Binned) return mayBeLeaf ? leaf : median;
+    best.kind = Split::Kind::Binned;
+    best.axis = found.axis;
+    best.bins = binCount;
+    best.bin = found.bin;
+    best.scale = scale[found.axis];
+    best.origin = origin[found.axis];
     if (mayBeLeaf) {
       const double area = r.bounds.area();
       // A range without area (a point or a segment) gives the SAH nothing to weigh: small
       // ones stay leaves.
       if (!(area > 0.0)) return leaf;
       const double leafCost = double(options_.intersectionCost) * double(n);
-      const double splitCost =
-          double(options_.traversalCost) + double(options_.intersectionCost) * bestCost / area;
+      const double splitCost = double(options_.traversalCost) +
+                               double(options_.intersectionCost) * double(found.cost) / area;
       if (leafCost <= splitCost) return leaf;
     }
     return best;
@@ -290,19 +230,32 @@ class Builder {
       const auto goesLeft = [&](const BvhPrim& prim) {
         return binOf(centroid(prim, split.axis), split.origin, split.scale, split.bins) < split.bin;
       };
-      RangeBounds lb, rb;
-      std::size_t i = r.begin, j = r.end;
-      for (;;) {
-        while (i < j && goesLeft(p[i])) lb.add(p[i++]);
-        while (i < j && !goesLeft(p[j - 1])) rb.add(p[--j]);
-        if (i >= j) break;
-        std::swap(p[i], p[j - 1]);
-        lb.add(p[i++]);
-        rb.add(p[--j]);
+      // Branch-free Lomuto partition: every primitive is swapped with the first one of the
+      // right side, and the boundary advances when it goes left. Sides are random at the top
+      // of the tree, so a partition that branches on them mispredicts half of the time.
+      // [r.begin, mid) goes left and [mid, i) right.
+      const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
+      const __m128 negInf = _mm_set1_ps(-std::numeric_limits<float>::infinity());
+      // Lane masks pick the primitive's corner for one side and the empty corner for the other.
+      const auto pick = [](__m128 mask, __m128 a, __m128 b) {
+        return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+      };
+      SseBox lb, lc, rb, rc;
+      mid = r.begin;
+      for (std::size_t i = r.begin; i < r.end; ++i) {
+        const bool isLeft = goesLeft(p[i]);
+        const __m128 lo = primLower(p[i]), hi = primUpper(p[i]);
+        const __m128 c = _mm_add_ps(lo, hi);
+        const __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-static_cast<int>(isLeft)));
+        lb.extend(pick(m, lo, inf), pick(m, hi, negInf));
+        lc.extend(pick(m, c, inf), pick(m, c, negInf));
+        rb.extend(pick(m, inf, lo), pick(m, negInf, hi));
+        rc.extend(pick(m, inf, c), pick(m, negInf, c));
+        std::swap(p[i], p[mid]);
+        mid += isLeft ? 1 : 0;
       }
-      mid = i;
-      left = {r.begin, mid, lb.bounds, lb.centroids};
-      right = {mid, r.end, rb.bounds, rb.centroids};
+      left = {r.begin, mid, lb, lc};
+      right = {mid, r.end, rb, rc};
       return;
     }
     // Median: ordered by centroid, then id, so that the halves do not depend on the input order
@@ -355,18 +308,26 @@ class Builder {
     Child inner[4];
     std::uint32_t innerIndex[4];
     int innerCount = 0;
+    std::size_t leafCount = 0;
+    for (int c = 0; c < n; ++c) innerCount += children[c].split.kind == Split::Kind::Leaf ? 0 : 1;
+    // Children are numbered after their parent, which lets a refit run bottom-up by walking
+    // the nodes backwards. One atomic step per node for the numbers and one for the leaf count:
+    // on small sequential builds the atomics would otherwise be a visible share of the time.
+    std::uint32_t nextIndex = innerCount == 0
+                                  ? 0
+                                  : nextNode_.fetch_add(static_cast<std::uint32_t>(innerCount),
+                                                        std::memory_order_relaxed);
+    innerCount = 0;
     bool large = false;
     for (int c = 0; c < n; ++c) {
       const Child& child = children[c];
-      node.setBounds(c, child.range.bounds);
+      node.setBounds(c, child.range.bounds.box());
       if (child.split.kind == Split::Kind::Leaf) {
         node.child[c] = static_cast<std::uint32_t>(child.range.begin);
         node.count[c] = static_cast<std::uint32_t>(child.range.count());
-        leaves_.fetch_add(1, std::memory_order_relaxed);
+        ++leafCount;
       } else {
-        // Children are numbered after their parent, which lets a refit run bottom-up by
-        // walking the nodes backwards.
-        const std::uint32_t childIndex = nextNode_.fetch_add(1, std::memory_order_relaxed);
+        const std::uint32_t childIndex = nextIndex++;
         node.child[c] = childIndex;
         node.count[c] = 0;
         inner[innerCount] = child;
@@ -374,6 +335,7 @@ class Builder {
         large = large || child.range.count() > options_.parallelThreshold;
       }
     }
+    if (leafCount != 0) leaves_.fetch_add(leafCount, std::memory_order_relaxed);
     out_.nodes[index] = node;
     const auto recurse = [&](int k) {
       buildNode(innerIndex[k], inner[k].range, inner[k].split, depth + 1);

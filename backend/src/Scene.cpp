@@ -17,6 +17,25 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
+/// World box of `b` under `m`, per output axis as the sum of each matrix term's smaller and
+/// larger product (Arvo 1990): the same box as transforming the eight corners, up to double
+/// rounding far below conservativeFloatBox's padding, at a third of the work. It runs for
+/// every instance in every top-level rebuild.
+Box3d transformedBounds(const Affine3d& m, const Box3f& b) {
+  Box3d out;
+  for (int r = 0; r < 3; ++r) {
+    double lo = m.m[r][3], hi = m.m[r][3];
+    for (int c = 0; c < 3; ++c) {
+      const double x = m.m[r][c] * double(b.lower[c]), y = m.m[r][c] * double(b.upper[c]);
+      lo += std::min(x, y);
+      hi += std::max(x, y);
+    }
+    out.lower[r] = lo;
+    out.upper[r] = hi;
+  }
+  return out;
+}
+
 /// Rounds a double box outwards to float and pads it by a few float ulps of its magnitude, so
 /// that a ray which the float matrices send onto the object's silhouette is not culled by the
 /// top level.
@@ -286,8 +305,7 @@ CommitStats Scene::commit() {
       r.worldToObject = inst.worldToObjectF;
       r.worldToObjectD = inst.worldToObject;
       r.identity = inst.objectToWorld == Affine3d::identity();
-      r.worldBounds = conservativeFloatBox(inst.objectToWorld.transformBox(
-          Box3d(Vec3d(objectBounds.lower), Vec3d(objectBounds.upper))));
+      r.worldBounds = conservativeFloatBox(transformedBounds(inst.objectToWorld, objectBounds));
       if (r.identity) r.worldBounds = objectBounds;
       r.instanceId = id;
       r.objectId = inst.object;

@@ -1,0 +1,270 @@
+// The binned-SAH BVH4 builder on its own: tree structure (every primitive in exactly one leaf,
+// tight boxes, leaf sizes), awkward inputs (no primitive, one, equal centroids, point boxes),
+// the same tree whatever the thread count on the parallel paths, and the SSE bin mapping
+// agreeing with the scalar one the partition uses.
+#define BOOST_TEST_MODULE bvh_sah_builder
+#include <boost/test/unit_test.hpp>
+
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "BvhBinning.h"
+#include "BvhBuilder.h"
+
+using namespace tg;
+using namespace tg::detail;
+
+namespace {
+
+/// What a walk from the root found.
+struct TreeCheck {
+  std::size_t leaves = 0;
+  std::size_t errors = 0;
+  std::string firstError;
+  /// Depth-first description of the tree (slot kinds, counts, first primitives, boxes): equal
+  /// for equal trees whatever numbering their nodes got.
+  std::vector<float> shape;
+};
+
+void fail(TreeCheck& c, const std::string& what) {
+  if (c.errors++ == 0) c.firstError = what;
+}
+
+bool sameBox(const Box3f& a, const Box3f& b) {
+  for (int k = 0; k < 3; ++k)
+    if (a.lower[k] != b.lower[k] || a.upper[k] != b.upper[k]) return false;
+  return true;
+}
+
+/// Checks node `index` and below; returns the union of its slots. `seen` counts how often each
+/// primitive position is referenced by a leaf.
+Box3f walk(const Bvh4NodeArray& nodes, std::uint32_t index, const std::vector<BvhPrim>& prims,
+           std::uint32_t maxLeaf, bool allowBigLeaves, std::vector<int>& seen, TreeCheck& c) {
+  const Bvh4Node& node = nodes[index];
+  Box3f all;
+  for (int s = 0; s < 4; ++s) {
+    if (node.child[s] == kInvalidId) {
+      c.shape.push_back(-1.0f);
+      continue;
+    }
+    const Box3f slot = node.slotBounds(s);
+    Box3f inside;
+    if (node.count[s] != 0) {
+      ++c.leaves;
+      c.shape.push_back(static_cast<float>(node.count[s]));
+      c.shape.push_back(static_cast<float>(node.child[s]));
+      if (node.count[s] > maxLeaf && !allowBigLeaves) fail(c, "leaf above the size limit");
+      if (std::size_t{node.child[s]} + node.count[s] > prims.size()) {
+        fail(c, "leaf past the primitives");
+        continue;
+      }
+      for (std::uint32_t k = node.child[s]; k < node.child[s] + node.count[s]; ++k) {
+        ++seen[k];
+        inside.extend(prims[k].box());
+      }
+    } else {
+      c.shape.push_back(0.0f);
+      if (node.child[s] <= index || node.child[s] >= nodes.size()) {
+        fail(c, "child not numbered after its parent");
+        continue;
+      }
+      inside = walk(nodes, node.child[s], prims, maxLeaf, allowBigLeaves, seen, c);
+    }
+    // Slots hold exactly the union of what is below them: min and max are exact.
+    if (!sameBox(slot, inside)) fail(c, "slot box is not the union of its contents");
+    for (int k = 0; k < 3; ++k) {
+      c.shape.push_back(slot.lower[k]);
+      c.shape.push_back(slot.upper[k]);
+    }
+    all.extend(slot);
+  }
+  return all;
+}
+
+/// Builds over `boxes` and checks the result; returns the tree description.
+TreeCheck buildAndCheck(const std::vector<Box3f>& boxes, const BvhBuildOptions& options,
+                        bool allowBigLeaves, std::vector<BvhPrim>& prims, BvhBuildResult& out) {
+  prims.clear();
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    prims.push_back(BvhPrim::make(boxes[i], static_cast<std::uint32_t>(i)));
+  buildBvh4(prims, options, out);
+  TreeCheck c;
+  if (boxes.empty()) {
+    if (!out.nodes.empty()) fail(c, "nodes for an empty input");
+    return c;
+  }
+  // The primitives are a permutation of the input.
+  std::vector<int> ids(boxes.size(), 0);
+  for (const BvhPrim& p : prims) {
+    if (p.id >= boxes.size() || !sameBox(p.box(), boxes[p.id])) fail(c, "primitive changed");
+    if (p.id < boxes.size()) ++ids[p.id];
+  }
+  for (const int n : ids)
+    if (n != 1) fail(c, "primitives are not a permutation of the input");
+  std::vector<int> seen(prims.size(), 0);
+  const Box3f all = walk(out.nodes, 0, prims, options.maxLeafSize, allowBigLeaves, seen, c);
+  for (const int n : seen)
+    if (n != 1) fail(c, "a primitive is not in exactly one leaf");
+  if (!sameBox(all, out.bounds)) fail(c, "result bounds differ from the root's slots");
+  if (c.leaves != out.leaves) fail(c, "leaf count differs from the walk");
+  return c;
+}
+
+std::vector<Box3f> randomBoxes(std::size_t n, std::uint32_t seed, float side, float size) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> pos(0.0f, side), ext(0.0f, size);
+  std::vector<Box3f> boxes;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3f lo{pos(rng), pos(rng), pos(rng)};
+    boxes.push_back({lo, lo + Vec3f{ext(rng), ext(rng), ext(rng)}});
+  }
+  return boxes;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(random_boxes_give_valid_trees_in_both_modes) {
+  for (const bool allAxes : {true, false}) {
+    BvhBuildOptions options;
+    options.allAxes = allAxes;
+    options.bins = allAxes ? 32 : 16;
+    options.maxLeafSize = allAxes ? 4 : 2;
+    for (const std::size_t n : {2, 3, 5, 17, 100, 1000, 20000}) {
+      std::vector<BvhPrim> prims;
+      BvhBuildResult out;
+      const TreeCheck c =
+          buildAndCheck(randomBoxes(n, 7 + static_cast<std::uint32_t>(n), 100.0f, 2.0f), options,
+                        false, prims, out);
+      BOOST_TEST(c.errors == 0u, "n=" << n << " allAxes=" << allAxes << ": " << c.firstError);
+      BOOST_TEST(out.maxDepth <= static_cast<std::size_t>(kBvh4MaxDepth));
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(awkward_inputs) {
+  BvhBuildOptions options;
+  std::vector<BvhPrim> prims;
+  BvhBuildResult out;
+
+  TreeCheck c = buildAndCheck({}, options, false, prims, out);
+  BOOST_TEST(c.errors == 0u, c.firstError);
+  BOOST_TEST(out.leaves == 0u);
+
+  const Box3f one{{1, 2, 3}, {4, 5, 6}};
+  c = buildAndCheck({one}, options, false, prims, out);
+  BOOST_TEST(c.errors == 0u, c.firstError);
+  BOOST_TEST(out.leaves == 1u);
+  BOOST_TEST(out.nodes.size() == 1u);
+
+  // All boxes equal: no plane separates them, so median splits bound the leaves.
+  c = buildAndCheck(std::vector<Box3f>(100, one), options, false, prims, out);
+  BOOST_TEST(c.errors == 0u, c.firstError);
+
+  // Point boxes at one place, and points along a line (zero area everywhere).
+  c = buildAndCheck(std::vector<Box3f>(50, Box3f{{1, 1, 1}, {1, 1, 1}}), options, false, prims,
+                    out);
+  BOOST_TEST(c.errors == 0u, c.firstError);
+  std::vector<Box3f> line;
+  for (int i = 0; i < 300; ++i) {
+    const Vec3f p{static_cast<float>(i), 0.0f, 0.0f};
+    line.push_back({p, p});
+  }
+  c = buildAndCheck(line, options, false, prims, out);
+  BOOST_TEST(c.errors == 0u, c.firstError);
+
+  // Equal centroids on two axes, spread on the third: only one axis can be binned.
+  std::vector<Box3f> column;
+  for (int i = 0; i < 200; ++i)
+    column.push_back({{-1.0f, -1.0f, static_cast<float>(i)}, {1.0f, 1.0f, i + 0.5f}});
+  for (const bool allAxes : {true, false}) {
+    options.allAxes = allAxes;
+    c = buildAndCheck(column, options, false, prims, out);
+    BOOST_TEST(c.errors == 0u, c.firstError);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(two_clusters_are_separated_at_the_root) {
+  // Two far-apart clusters: any SAH split puts them on different sides, so no root slot may
+  // hold primitives of both.
+  std::vector<Box3f> boxes = randomBoxes(500, 3, 10.0f, 1.0f);
+  for (Box3f b : randomBoxes(500, 4, 10.0f, 1.0f)) {
+    b.lower.y += 1000.0f;
+    b.upper.y += 1000.0f;
+    boxes.push_back(b);
+  }
+  for (const bool allAxes : {true, false}) {
+    BvhBuildOptions options;
+    options.allAxes = allAxes;
+    std::vector<BvhPrim> prims;
+    BvhBuildResult out;
+    const TreeCheck c = buildAndCheck(boxes, options, false, prims, out);
+    BOOST_TEST(c.errors == 0u, c.firstError);
+    for (int s = 0; s < 4; ++s) {
+      if (out.nodes[0].child[s] == kInvalidId) continue;
+      const Box3f slot = out.nodes[0].slotBounds(s);
+      BOOST_TEST((slot.upper.y < 100.0f || slot.lower.y > 900.0f), "root slot " << s);
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(trees_do_not_depend_on_the_thread_count) {
+  const std::vector<Box3f> boxes = randomBoxes(60000, 11, 200.0f, 3.0f);
+  for (const bool allAxes : {true, false}) {
+    BvhBuildOptions options;
+    options.allAxes = allAxes;
+    options.parallelThreshold = 512;  // the parallel binning and subtree tasks run
+    std::vector<BvhPrim> prims[2];
+    BvhBuildResult out[2];
+    TreeCheck c[2];
+    tbb::task_arena(1).execute(
+        [&] { c[0] = buildAndCheck(boxes, options, false, prims[0], out[0]); });
+    tbb::task_arena(2).execute(
+        [&] { c[1] = buildAndCheck(boxes, options, false, prims[1], out[1]); });
+    BOOST_TEST(c[0].errors == 0u, c[0].firstError);
+    BOOST_TEST(c[1].errors == 0u, c[1].firstError);
+    BOOST_TEST((c[0].shape == c[1].shape));
+    bool sameOrder = prims[0].size() == prims[1].size();
+    for (std::size_t k = 0; sameOrder && k < prims[0].size(); ++k)
+      sameOrder = prims[0][k].id == prims[1][k].id;
+    BOOST_TEST(sameOrder);
+    BOOST_TEST(bvh4SahCost(out[0].nodes, 1.0, 1.0) == bvh4SahCost(out[1].nodes, 1.0, 1.0));
+  }
+}
+
+BOOST_AUTO_TEST_CASE(sse_bins_equal_scalar_bins) {
+  // The partition decides sides with the scalar binOf; it must agree with the binning exactly,
+  // NaN and overflowing products included.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> any(-1e6f, 1e6f);
+  const float origin[3] = {-3.5f, 0.0f, 1e5f};
+  const float scale[3] = {0.37f, 31.99f, 1e-3f};
+  const int bins = 32;
+  const BinMapping map{_mm_setr_ps(origin[0], origin[1], origin[2], 0.0f),
+                       _mm_setr_ps(scale[0], scale[1], scale[2], 0.0f),
+                       _mm_set1_ps(static_cast<float>(bins - 1))};
+  std::vector<Box3f> boxes;
+  for (int i = 0; i < 10000; ++i) {
+    const Vec3f lo{any(rng), any(rng), any(rng)};
+    boxes.push_back({lo, lo + Vec3f{1.0f, 2.0f, 3.0f}});
+  }
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  boxes.push_back({{nan, inf, -inf}, {nan, inf, -inf}});
+  boxes.push_back({{3e38f, -3e38f, 0.0f}, {3e38f, -3e38f, 0.0f}});
+  std::size_t mismatches = 0;
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const BvhPrim p = BvhPrim::make(boxes[i], static_cast<std::uint32_t>(i));
+    alignas(16) std::int32_t b[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(b), map.bins(primLower(p), primUpper(p)));
+    for (int a = 0; a < 3; ++a) {
+      const int scalar = binOf(p.lower[a] + p.upper[a], origin[a], scale[a], bins);
+      if (b[a] != scalar || scalar < 0 || scalar >= bins) ++mismatches;
+    }
+  }
+  BOOST_TEST(mismatches == 0u);
+}
