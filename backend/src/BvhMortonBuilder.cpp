@@ -126,9 +126,16 @@ class Hierarchy {
     const std::uint32_t bit = std::uint32_t{1} << (std::bit_width(first ^ last) - 1);
     // The codes share every bit above `bit`, so those with it clear come first. codes_[begin]
     // has it clear and codes_[end - 1] set: the split lies in [begin + 1, end - 1].
-    const std::uint32_t* at = std::partition_point(codes_ + r.begin + 1, codes_ + r.end - 1,
-                                                   [bit](std::uint32_t c) { return !(c & bit); });
-    return static_cast<std::uint32_t>(at - codes_);
+    // Branch-free bisection: the direction of each step is a coin toss the branch predictor
+    // cannot learn, and a conditional move costs less than the mispredictions.
+    const std::uint32_t* base = codes_ + r.begin;
+    std::uint32_t len = r.count();
+    while (len > 1) {
+      const std::uint32_t half = len / 2;
+      base = (base[half] & bit) ? base : base + half;
+      len -= half;
+    }
+    return static_cast<std::uint32_t>(base - codes_) + 1;
   }
 
   Counts buildNode(std::uint32_t index, Range range, std::size_t depth) {
