@@ -105,6 +105,24 @@ inline bool degenerate(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
   return !certainlyNonDegenerate(a, b, c) && isDegenerateTriangle(a, b, c);
 }
 
+/// Box of the leaf triangles [first, first + count) (in leaf order); their degenerate count
+/// and the bounds of the others go into `acc`.
+Box3f leafBox(const TriangleVertices* triangles, std::uint32_t first, std::uint32_t count,
+              TriangleSummary& acc) {
+  Box3f box;
+  for (std::uint32_t k = first; k < first + count; ++k) {
+    const TriangleVertices& t = triangles[k];
+    const Box3f b = boxOf(t);
+    box.extend(b);
+    if (degenerate(t.v0, t.v1, t.v2)) {
+      ++acc.degenerate;
+    } else {
+      acc.bounds.extend(b);
+    }
+  }
+  return box;
+}
+
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
@@ -175,12 +193,20 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
 void BvhAccel::buildMorton(const TriangleMesh& mesh) {
   const std::size_t n = mesh.triangleCount();
   // Every triangle takes part, degenerate ones included (see BvhAccel). The builder needs only
-  // the box centres (as lower + upper); boxes come from the refit pass below.
+  // the box centres (as lower + upper) to sort; boxes come with the nodes.
   centroids_.resize(n);
   forEachIndex(n, 4096, [&](std::size_t i) {
     const TriangleVertices t = verticesOf(mesh, i);
     centroids_[i] = min(min(t.v0, t.v1), t.v2) + max(max(t.v0, t.v1), t.v2);
   });
+  morton_.sort(centroids_, primIds_);
+  // Triangles go to their leaf positions by a scatter in mesh order rather than a gather in
+  // leaf order: the mesh is then read front to back, and the random accesses are stores, which
+  // do not wait for memory the way dependent loads (index, then vertices) do.
+  rank_.resize(n);
+  forEachIndex(n, 4096, [&](std::size_t k) { rank_[primIds_[k]] = static_cast<std::uint32_t>(k); });
+  triangles_.resize(n);
+  forEachIndex(n, 4096, [&](std::size_t i) { triangles_[rank_[i]] = verticesOf(mesh, i); });
   BvhMortonOptions options;
   // Two triangles per leaf at most: Morton leaves are looser than SAH leaves, and bigger ones
   // cost more triangle tests than the node tests they save (BART robots and kitchen).
@@ -189,11 +215,18 @@ void BvhAccel::buildMorton(const TriangleMesh& mesh) {
   options.intersectionCost = kIntersectionCost;
   BvhBuildResult result;
   result.nodes.swap(nodes_);  // reuse the node memory of the previous build
-  morton_.buildTopology(centroids_, options, primIds_, result);
+  TriangleSummary summary;
+  morton_.emit(
+      options,
+      [&](std::uint32_t first, std::uint32_t count, TriangleSummary& acc) {
+        return leafBox(triangles_.data(), first, count, acc);
+      },
+      result, summary);
   nodes_.swap(result.nodes);
-  triangles_.resize(n);
   indices_ = mesh.indices;
-  refitFromMesh(mesh);
+  bounds_ = summary.bounds;
+  stats_.degenerate = summary.degenerate;
+  stats_.sahCost = nodes_.empty() ? 0.0 : result.sahCost;
   stats_.leaves = result.leaves;
   stats_.maxDepth = result.maxDepth;
   stats_.primReferences = n;
@@ -269,11 +302,11 @@ void BvhAccel::refitFromMesh(const TriangleMesh& mesh) {
 void BvhAccel::finishStats() {
   stats_.refitted = false;
   stats_.nodes = nodes_.size() + stats_.leaves;
-  stats_.bytes = nodes_.capacity() * sizeof(Bvh4Node) +
-                 triangles_.capacity() * sizeof(TriangleVertices) +
-                 primIds_.capacity() * sizeof(std::uint32_t) +
-                 indices_.capacity() * sizeof(std::uint32_t) + prims_.capacity() * sizeof(BvhPrim) +
-                 centroids_.capacity() * sizeof(Vec3f) + morton_.scratchBytes();
+  stats_.bytes =
+      nodes_.capacity() * sizeof(Bvh4Node) + triangles_.capacity() * sizeof(TriangleVertices) +
+      primIds_.capacity() * sizeof(std::uint32_t) + indices_.capacity() * sizeof(std::uint32_t) +
+      prims_.capacity() * sizeof(BvhPrim) + centroids_.capacity() * sizeof(Vec3f) +
+      rank_.capacity() * sizeof(std::uint32_t) + morton_.scratchBytes();
 }
 
 bool BvhAccel::intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) const {

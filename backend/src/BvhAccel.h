@@ -76,6 +76,7 @@ class BvhAccel final : public ObjectAccel {
   std::vector<std::uint32_t> indices_;       ///< mesh indices at the last build (refit check)
   std::vector<BvhPrim> prims_;               ///< SAH build scratch
   std::vector<Vec3f> centroids_;             ///< Morton build scratch: lower + upper per box
+  std::vector<std::uint32_t> rank_;          ///< Morton build scratch: leaf position per triangle
   BvhMortonBuilder morton_;                  ///< Morton build scratch, kept between builds
   Box3f bounds_;
   BuildStats stats_;

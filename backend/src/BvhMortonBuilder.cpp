@@ -7,7 +7,6 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <limits>
 
@@ -28,8 +27,6 @@ constexpr int kDigitBits = 10;
 constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
 /// Quantisation cells per axis (10 bits each).
 constexpr float kCells = 1024.0f;
-/// Top levels of a large tree whose boxes are gathered as parallel tasks (4^2 subtrees).
-constexpr int kParallelRefitLevels = 2;
 
 template <class Fn>
 void forRange(std::size_t n, Fn&& fn) {
@@ -82,136 +79,60 @@ struct CentroidBounds {
   }
 };
 
-/// The top-down pass over the sorted codes: creates the nodes, slot boxes left empty.
-class Hierarchy {
- public:
-  Hierarchy(const std::uint32_t* codes, const BvhMortonOptions& options, Bvh4NodeArray& nodes)
-      : codes_(codes),
-        options_(options),
-        maxLeaf_(std::max<std::uint32_t>(options.maxLeafSize, 1)),
-        nodes_(nodes) {}
-
-  /// Builds the tree over [0, n) into nodes (sized for the worst case by the caller) and
-  /// returns the number of nodes used.
-  std::uint32_t run(std::uint32_t n, BvhBuildResult& out) {
-    const Counts counts = buildNode(0, {0, n}, 0);
-    out.leaves = counts.leaves;
-    out.maxDepth = counts.maxDepth;
-    return nextNode_.load(std::memory_order_relaxed);
+/// Where a range splits: the first code with the highest bit in which the range's codes differ,
+/// or the middle when all codes are equal (which halves the range, so equal codes add at most
+/// log2(n) levels).
+std::uint32_t splitMortonRange(const std::uint32_t* codes, MortonRange r) {
+  const std::uint32_t first = codes[r.begin], last = codes[r.end - 1];
+  if (first == last) return r.begin + r.count() / 2;
+  const std::uint32_t bit = std::uint32_t{1} << (std::bit_width(first ^ last) - 1);
+  // The codes share every bit above `bit`, so those with it clear come first. codes[begin] has
+  // it clear and codes[end - 1] set: the split lies in [begin + 1, end - 1]. Branch-free
+  // bisection: the direction of each step is a coin toss the branch predictor cannot learn,
+  // and a conditional move costs less than the mispredictions.
+  const std::uint32_t* base = codes + r.begin;
+  std::uint32_t len = r.count();
+  while (len > 1) {
+    const std::uint32_t half = len / 2;
+    base = (base[half] & bit) ? base : base + half;
+    len -= half;
   }
-
- private:
-  struct Range {
-    std::uint32_t begin, end;
-    std::uint32_t count() const { return end - begin; }
-  };
-
-  /// Leaf slots and deepest node level of a subtree, returned up the recursion rather than
-  /// counted in shared atomics that both threads would fight over.
-  struct Counts {
-    std::size_t leaves = 0;
-    std::size_t maxDepth = 0;
-    void merge(const Counts& o) {
-      leaves += o.leaves;
-      maxDepth = std::max(maxDepth, o.maxDepth);
-    }
-  };
-
-  /// Where a range splits: the first code with the highest bit in which the range's codes
-  /// differ, or the middle when all codes are equal (which halves the range, so equal codes add
-  /// at most log2(n) levels).
-  std::uint32_t split(const Range& r) const {
-    const std::uint32_t first = codes_[r.begin], last = codes_[r.end - 1];
-    if (first == last) return r.begin + r.count() / 2;
-    const std::uint32_t bit = std::uint32_t{1} << (std::bit_width(first ^ last) - 1);
-    // The codes share every bit above `bit`, so those with it clear come first. codes_[begin]
-    // has it clear and codes_[end - 1] set: the split lies in [begin + 1, end - 1].
-    // Branch-free bisection: the direction of each step is a coin toss the branch predictor
-    // cannot learn, and a conditional move costs less than the mispredictions.
-    const std::uint32_t* base = codes_ + r.begin;
-    std::uint32_t len = r.count();
-    while (len > 1) {
-      const std::uint32_t half = len / 2;
-      base = (base[half] & bit) ? base : base + half;
-      len -= half;
-    }
-    return static_cast<std::uint32_t>(base - codes_) + 1;
-  }
-
-  Counts buildNode(std::uint32_t index, Range range, std::size_t depth) {
-    // Open the range that must split and spans the largest cell of the code grid (the highest
-    // differing bit; then the most primitives) until there are four: like the SAH builder's
-    // widest child first, it keeps big boxes from sharing a node with small ones. Every child
-    // range is at least one binary level below this node's, so the BVH4 is no deeper than the
-    // binary tree.
-    Range ranges[4] = {range, {}, {}, {}};
-    int n = 1;
-    while (n < 4) {
-      int largest = -1;
-      std::uint64_t largestKey = 0;
-      for (int c = 0; c < n; ++c) {
-        if (ranges[c].count() <= maxLeaf_) continue;
-        const std::uint64_t key =
-            (std::uint64_t{codes_[ranges[c].begin] ^ codes_[ranges[c].end - 1]} << 32) |
-            ranges[c].count();
-        if (key > largestKey) {
-          largestKey = key;
-          largest = c;
-        }
-      }
-      if (largest < 0) break;
-      const Range parent = ranges[largest];
-      const std::uint32_t mid = split(parent);
-      // Keep the slots in code order: neighbours on the curve stay neighbours in memory.
-      for (int c = n; c > largest + 1; --c) ranges[c] = ranges[c - 1];
-      ranges[largest] = {parent.begin, mid};
-      ranges[largest + 1] = {mid, parent.end};
-      ++n;
-    }
-
-    Bvh4Node& node = nodes_[index];
-    node = Bvh4Node::makeEmpty();
-    Counts counts;
-    counts.maxDepth = depth;
-    bool large = false;
-    std::uint32_t inner = 0;
-    for (int c = 0; c < n; ++c) inner += ranges[c].count() > maxLeaf_ ? 1u : 0u;
-    // Children are numbered after their parent, which lets a refit run bottom-up by walking the
-    // nodes backwards. One shared counter update per node, not per child: both threads
-    // allocate from it, and every update moves its cache line between them.
-    std::uint32_t next = inner == 0 ? 0 : nextNode_.fetch_add(inner, std::memory_order_relaxed);
-    for (int c = 0; c < n; ++c) {
-      if (ranges[c].count() <= maxLeaf_) {
-        node.child[c] = ranges[c].begin;
-        node.count[c] = ranges[c].count();
-        ++counts.leaves;
-      } else {
-        node.child[c] = next++;
-        node.count[c] = 0;
-        large = large || ranges[c].count() > options_.parallelThreshold;
-      }
-    }
-    if (large) {
-      Counts children[4];
-      tbb::parallel_for(0, n, [&](int c) {
-        if (node.count[c] == 0) children[c] = buildNode(node.child[c], ranges[c], depth + 1);
-      });
-      for (int c = 0; c < n; ++c) counts.merge(children[c]);
-    } else {
-      for (int c = 0; c < n; ++c)
-        if (node.count[c] == 0) counts.merge(buildNode(node.child[c], ranges[c], depth + 1));
-    }
-    return counts;
-  }
-
-  const std::uint32_t* codes_;
-  const BvhMortonOptions& options_;
-  const std::uint32_t maxLeaf_;
-  Bvh4NodeArray& nodes_;
-  std::atomic<std::uint32_t> nextNode_{1};
-};
+  return static_cast<std::uint32_t>(base - codes) + 1;
+}
 
 }  // namespace
+
+int openMortonRanges(const std::uint32_t* codes, MortonRange range, std::uint32_t maxLeaf,
+                     MortonRange ranges[4]) {
+  // Like the SAH builder's widest child first, opening the largest cell keeps big boxes from
+  // sharing a node with small ones. Every child range is at least one binary level below this
+  // node's, so the BVH4 is no deeper than the binary tree.
+  ranges[0] = range;
+  int n = 1;
+  while (n < 4) {
+    int largest = -1;
+    std::uint64_t largestKey = 0;
+    for (int c = 0; c < n; ++c) {
+      if (ranges[c].count() <= maxLeaf) continue;
+      const std::uint64_t key =
+          (std::uint64_t{codes[ranges[c].begin] ^ codes[ranges[c].end - 1]} << 32) |
+          ranges[c].count();
+      if (key > largestKey) {
+        largestKey = key;
+        largest = c;
+      }
+    }
+    if (largest < 0) break;
+    const MortonRange parent = ranges[largest];
+    const std::uint32_t mid = splitMortonRange(codes, parent);
+    // Keep the slots in code order: neighbours on the curve stay neighbours in memory.
+    for (int c = n; c > largest + 1; --c) ranges[c] = ranges[c - 1];
+    ranges[largest] = {parent.begin, mid};
+    ranges[largest + 1] = {mid, parent.end};
+    ++n;
+  }
+  return n;
+}
 
 void BvhMortonBuilder::build(std::span<const Box3f> boxes, const BvhMortonOptions& options,
                              std::vector<std::uint32_t>& order, BvhBuildResult& out) {
@@ -220,49 +141,31 @@ void BvhMortonBuilder::build(std::span<const Box3f> boxes, const BvhMortonOption
   forRange(n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) centroids_[i] = boxes[i].lower + boxes[i].upper;
   });
-  buildTopology(centroids_, options, order, out);
-  if (out.nodes.empty()) return;
-  Bvh4SahSum sum;
+  sort(centroids_, order);
   NoLeafData none;
-  out.bounds = refitBvh4(
-      out.nodes, 0,
+  emit(
+      options,
       [&](std::uint32_t first, std::uint32_t count, NoLeafData&) {
         Box3f box;
         for (std::uint32_t k = first; k < first + count; ++k) box.extend(boxes[order[k]]);
         return box;
       },
-      options.traversalCost, options.intersectionCost,
-      n > options.parallelThreshold ? kParallelRefitLevels : 0, sum, none);
-  out.sahCost = sum.finish(out.bounds, options.traversalCost);
+      out, none);
 }
 
-void BvhMortonBuilder::buildTopology(std::span<const Vec3f> centroids,
-                                     const BvhMortonOptions& options,
-                                     std::vector<std::uint32_t>& order, BvhBuildResult& out) {
+void BvhMortonBuilder::sort(std::span<const Vec3f> centroids, std::vector<std::uint32_t>& order) {
   const std::size_t n = centroids.size();
-  out.leaves = 0;
-  out.maxDepth = 0;
-  out.bounds = Box3f{};
-  out.sahCost = -1.0;
   order.resize(n);
-  if (n == 0) {
-    out.nodes.clear();
-    return;
-  }
+  codes_.resize(n);
+  if (n == 0) return;
   computeKeys(centroids);
   sortKeys();
-  codes_.resize(n);
   forRange(n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
       order[k] = static_cast<std::uint32_t>(keys_[k]);
       codes_[k] = static_cast<std::uint32_t>(keys_[k] >> 32);
     }
   });
-  // Every inner node has at least two children, except a root that is a single leaf, so there
-  // are at most as many nodes as primitives.
-  out.nodes.resize(n);
-  Hierarchy hierarchy(codes_.data(), options, out.nodes);
-  out.nodes.resize(hierarchy.run(static_cast<std::uint32_t>(n), out));
 }
 
 void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids) {
