@@ -195,18 +195,42 @@ void BvhAccel::buildMorton(const TriangleMesh& mesh) {
   // Every triangle takes part, degenerate ones included (see BvhAccel). The builder needs only
   // the box centres (as lower + upper) to sort; boxes come with the nodes.
   centroids_.resize(n);
-  forEachIndex(n, 4096, [&](std::size_t i) {
-    const TriangleVertices t = verticesOf(mesh, i);
-    centroids_[i] = min(min(t.v0, t.v1), t.v2) + max(max(t.v0, t.v1), t.v2);
-  });
-  morton_.sort(centroids_, primIds_);
+  const auto centroidBlock = [&](std::size_t begin, std::size_t end, MortonCentroidBounds acc) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const TriangleVertices t = verticesOf(mesh, i);
+      centroids_[i] = min(min(t.v0, t.v1), t.v2) + max(max(t.v0, t.v1), t.v2);
+      acc.add(centroids_[i]);
+    }
+    return acc;
+  };
+  const MortonCentroidBounds centroidBounds =
+      n < kParallelTriangles
+          ? centroidBlock(0, n, MortonCentroidBounds{})
+          : tbb::parallel_reduce(
+                tbb::blocked_range<std::size_t>(0, n, 4096), MortonCentroidBounds{},
+                [&](const tbb::blocked_range<std::size_t>& r, const MortonCentroidBounds& acc) {
+                  return centroidBlock(r.begin(), r.end(), acc);
+                },
+                [](MortonCentroidBounds a, const MortonCentroidBounds& b) {
+                  a.merge(b);
+                  return a;
+                });
+  rank_.resize(n);
+  morton_.sort(centroids_, primIds_, &centroidBounds, rank_.data());
   // Triangles go to their leaf positions by a scatter in mesh order rather than a gather in
   // leaf order: the mesh is then read front to back, and the random accesses are stores, which
-  // do not wait for memory the way dependent loads (index, then vertices) do.
-  rank_.resize(n);
-  forEachIndex(n, 4096, [&](std::size_t k) { rank_[primIds_[k]] = static_cast<std::uint32_t>(k); });
+  // do not wait for memory the way dependent loads (index, then vertices) do. The same pass
+  // keeps the indices for the refit check.
   triangles_.resize(n);
-  forEachIndex(n, 4096, [&](std::size_t i) { triangles_[rank_[i]] = verticesOf(mesh, i); });
+  indices_.resize(mesh.indices.size());
+  forEachIndex(n, 4096, [&](std::size_t i) {
+    const std::uint32_t* idx = mesh.indices.data() + 3 * i;
+    indices_[3 * i] = idx[0];
+    indices_[3 * i + 1] = idx[1];
+    indices_[3 * i + 2] = idx[2];
+    triangles_[rank_[i]] = {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
+  });
+  for (std::size_t k = 3 * n; k < mesh.indices.size(); ++k) indices_[k] = mesh.indices[k];
   BvhMortonOptions options;
   // Two triangles per leaf at most: Morton leaves are looser than SAH leaves, and bigger ones
   // cost more triangle tests than the node tests they save (BART robots and kitchen).
@@ -223,7 +247,6 @@ void BvhAccel::buildMorton(const TriangleMesh& mesh) {
       },
       result, summary);
   nodes_.swap(result.nodes);
-  indices_ = mesh.indices;
   bounds_ = summary.bounds;
   stats_.degenerate = summary.degenerate;
   stats_.sahCost = nodes_.empty() ? 0.0 : result.sahCost;

@@ -58,27 +58,6 @@ inline std::uint32_t cellOf(float c, float lower, float scale) {
   return static_cast<std::uint32_t>(f);
 }
 
-/// Bounds of the centroids, written so that a NaN component (the centroid of an empty box)
-/// leaves them as they are.
-struct CentroidBounds {
-  float lower[3] = {kInf, kInf, kInf};
-  float upper[3] = {-kInf, -kInf, -kInf};
-  static constexpr float kInf = std::numeric_limits<float>::infinity();
-
-  void add(const Vec3f& c) {
-    for (int a = 0; a < 3; ++a) {
-      lower[a] = c[a] < lower[a] ? c[a] : lower[a];
-      upper[a] = c[a] > upper[a] ? c[a] : upper[a];
-    }
-  }
-  void merge(const CentroidBounds& o) {
-    for (int a = 0; a < 3; ++a) {
-      lower[a] = std::min(lower[a], o.lower[a]);
-      upper[a] = std::max(upper[a], o.upper[a]);
-    }
-  }
-};
-
 /// Where a range splits: the first code with the highest bit in which the range's codes differ,
 /// or the middle when all codes are equal (which halves the range, so equal codes add at most
 /// log2(n) levels).
@@ -153,34 +132,40 @@ void BvhMortonBuilder::build(std::span<const Box3f> boxes, const BvhMortonOption
       out, none);
 }
 
-void BvhMortonBuilder::sort(std::span<const Vec3f> centroids, std::vector<std::uint32_t>& order) {
+void BvhMortonBuilder::sort(std::span<const Vec3f> centroids, std::vector<std::uint32_t>& order,
+                            const MortonCentroidBounds* bounds, std::uint32_t* rank) {
   const std::size_t n = centroids.size();
   order.resize(n);
   codes_.resize(n);
   if (n == 0) return;
-  computeKeys(centroids);
+  computeKeys(centroids, bounds);
   sortKeys();
   forRange(n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
-      order[k] = static_cast<std::uint32_t>(keys_[k]);
+      const std::uint32_t index = static_cast<std::uint32_t>(keys_[k]);
+      order[k] = index;
       codes_[k] = static_cast<std::uint32_t>(keys_[k] >> 32);
+      if (rank != nullptr) rank[index] = static_cast<std::uint32_t>(k);
     }
   });
 }
 
-void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids) {
+void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids,
+                                   const MortonCentroidBounds* bounds) {
   const std::size_t n = centroids.size();
-  CentroidBounds cb;
-  if (n < kParallelElements) {
+  MortonCentroidBounds cb;
+  if (bounds != nullptr) {
+    cb = *bounds;
+  } else if (n < kParallelElements) {
     for (const Vec3f& c : centroids) cb.add(c);
   } else {
     cb = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, n, 4096), CentroidBounds{},
-        [&](const tbb::blocked_range<std::size_t>& r, CentroidBounds acc) {
+        tbb::blocked_range<std::size_t>(0, n, 4096), MortonCentroidBounds{},
+        [&](const tbb::blocked_range<std::size_t>& r, MortonCentroidBounds acc) {
           for (std::size_t i = r.begin(); i != r.end(); ++i) acc.add(centroids[i]);
           return acc;
         },
-        [](CentroidBounds a, const CentroidBounds& b) {
+        [](MortonCentroidBounds a, const MortonCentroidBounds& b) {
           a.merge(b);
           return a;
         });
@@ -190,7 +175,7 @@ void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids) {
     // No extent (all centroids in one plane), no finite centroid or an overflowing extent:
     // the axis contributes nothing to the code.
     const float extent = cb.upper[a] - cb.lower[a];
-    scale[a] = extent > 0.0f && extent < CentroidBounds::kInf ? kCells / extent : 0.0f;
+    scale[a] = extent > 0.0f && extent < MortonCentroidBounds::kInf ? kCells / extent : 0.0f;
   }
   keys_.resize(n);
   forRange(n, [&](std::size_t begin, std::size_t end) {

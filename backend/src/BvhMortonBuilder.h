@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -23,6 +24,29 @@ struct BvhMortonOptions {
   double traversalCost = 1.0;
   /// SAH cost of testing one primitive.
   double intersectionCost = 1.0;
+};
+
+/// Bounds of Morton centroids, written so that a NaN component (the centroid of an empty box)
+/// leaves them as they are. Merging is exact, so any split of the work gives the same bounds.
+struct MortonCentroidBounds {
+  static constexpr float kInf = std::numeric_limits<float>::infinity();
+  float lower[3] = {kInf, kInf, kInf};
+  float upper[3] = {-kInf, -kInf, -kInf};
+
+  /// Adds one centroid.
+  void add(const Vec3f& c) {
+    for (int a = 0; a < 3; ++a) {
+      lower[a] = c[a] < lower[a] ? c[a] : lower[a];
+      upper[a] = c[a] > upper[a] ? c[a] : upper[a];
+    }
+  }
+  /// Adds the centroids of another bounds.
+  void merge(const MortonCentroidBounds& o) {
+    for (int a = 0; a < 3; ++a) {
+      lower[a] = o.lower[a] < lower[a] ? o.lower[a] : lower[a];
+      upper[a] = o.upper[a] > upper[a] ? o.upper[a] : upper[a];
+    }
+  }
 };
 
 /// Builds BVH4s after Karras 2012 ("Maximizing parallelism in the construction of BVHs, octrees
@@ -51,8 +75,11 @@ class BvhMortonBuilder {
 
   /// First half of a build: sorts the primitives by the Morton code of their centroid (any
   /// fixed multiple of the centre will do; NaN components sort as the minimum). `order`
-  /// receives the primitive indices in leaf order.
-  void sort(std::span<const Vec3f> centroids, std::vector<std::uint32_t>& order);
+  /// receives the primitive indices in leaf order. `bounds`, when given, must be the bounds of
+  /// `centroids` (a caller that makes the centroids can gather them in the same pass); `rank`,
+  /// when given, receives the leaf position of every primitive (rank[order[k]] = k).
+  void sort(std::span<const Vec3f> centroids, std::vector<std::uint32_t>& order,
+            const MortonCentroidBounds* bounds = nullptr, std::uint32_t* rank = nullptr);
 
   /// Second half: the nodes over the primitives sorted by the last sort(), with their boxes.
   /// `leafBox(first, count, acc)` returns the box of the primitives order[first, first + count)
@@ -76,7 +103,7 @@ class BvhMortonBuilder {
 
  private:
   /// Centroid bounds, then one (code << 32 | index) key per centroid into keys_.
-  void computeKeys(std::span<const Vec3f> centroids);
+  void computeKeys(std::span<const Vec3f> centroids, const MortonCentroidBounds* bounds);
   /// Stable LSD radix sort of keys_ by code.
   void sortKeys();
 
