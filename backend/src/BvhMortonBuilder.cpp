@@ -18,10 +18,12 @@ namespace {
 /// Loops over fewer elements run on the calling thread: below this, scheduling tasks costs
 /// more than it saves.
 constexpr std::size_t kParallelElements = 16384;
-/// The radix sort cuts large inputs into at most this many blocks of at least
-/// kParallelElements keys. The cut depends only on the input size, and the sort is stable
-/// whatever the cut, so the order never depends on the thread count.
+/// The radix sort cuts inputs into at most this many blocks of at least kSortBlockKeys keys.
+/// The cut depends only on the input size, and the sort is stable whatever the cut, so the
+/// order never depends on the thread count. More blocks than threads let a thread that gets
+/// the core back late leave its share to the others.
 constexpr std::size_t kMaxSortBlocks = 8;
+constexpr std::size_t kSortBlockKeys = 4096;
 /// Bits per radix digit: three passes cover the 30-bit codes, stored above the 32-bit index.
 constexpr int kDigitBits = 10;
 constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
@@ -192,7 +194,7 @@ void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids,
 
 void BvhMortonBuilder::sortKeys() {
   const std::size_t n = keys_.size();
-  const std::size_t blocks = std::clamp<std::size_t>(n / kParallelElements, 1, kMaxSortBlocks);
+  const std::size_t blocks = std::clamp<std::size_t>(n / kSortBlockKeys, 1, kMaxSortBlocks);
   const std::size_t blockSize = (n + blocks - 1) / blocks;
   scratch_.resize(n);
   histogram_.resize(blocks * kDigits);

@@ -2,6 +2,7 @@
 // object BVH (AccelKind::BvhFast). Internal header: not installed.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -90,8 +91,14 @@ class BvhMortonBuilder {
             Acc& acc) {
     MortonEmitter<Acc, LeafBox> emitter(codes_.data(), options.maxLeafSize, options.traversalCost,
                                         options.intersectionCost, leafBox);
-    emitter.run(static_cast<std::uint32_t>(codes_.size()), options.parallelThreshold, emit_, out,
-                acc);
+    const std::size_t n = codes_.size();
+    // Above the threshold, jobs of about n / kEmitJobs primitives: enough of them for the
+    // threads to even out, whatever the size. Depends on n only, like the tree.
+    const std::size_t jobSize =
+        n <= options.parallelThreshold
+            ? options.parallelThreshold
+            : std::min(options.parallelThreshold, std::max(n / kEmitJobs, kMinEmitJob));
+    emitter.run(static_cast<std::uint32_t>(n), jobSize, emit_, out, acc);
   }
 
   /// Bytes held by the buffers kept between builds.
@@ -102,6 +109,9 @@ class BvhMortonBuilder {
   }
 
  private:
+  static constexpr std::size_t kEmitJobs = 32;     ///< jobs aimed at by emit()
+  static constexpr std::size_t kMinEmitJob = 256;  ///< smallest job size emit() picks
+
   /// Centroid bounds, then one (code << 32 | index) key per centroid into keys_.
   void computeKeys(std::span<const Vec3f> centroids, const MortonCentroidBounds* bounds);
   /// Stable LSD radix sort of keys_ by code.
