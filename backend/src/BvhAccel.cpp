@@ -24,18 +24,6 @@ constexpr std::size_t kParallelTriangles = 8192;
 /// Top levels of a large tree whose children refit as parallel tasks: 4^2 subtrees keep two
 /// threads busy, however unevenly the triangles are spread.
 constexpr int kParallelRefitLevels = 2;
-/// Triangles ahead of the current one whose vertices the refit prefetches.
-constexpr std::size_t kPrefetchDistance = 8;
-
-/// Asks for the cache line holding `p` without waiting for it.
-inline void prefetch(const void* p) {
-#if defined(__GNUC__)
-  __builtin_prefetch(p);
-#else
-  (void)p;
-#endif
-}
-
 /// Degenerate count and bounds of the non-degenerate triangles, reduced over a mesh.
 struct TriangleSummary {
   std::size_t degenerate = 0;
@@ -265,51 +253,13 @@ bool BvhAccel::refit(const TriangleMesh& mesh) {
 }
 
 void BvhAccel::refitFromMesh(const TriangleMesh& mesh) {
-  // One pass down the tree and back: each leaf copies its triangles' vertices (in leaf order)
-  // and returns their box, each node its children's union on the way up.
+  // The vertices go to their leaf positions as in a build (a scatter in mesh order, see
+  // buildMorton), then one pass down the tree and back: each leaf returns the box of its
+  // triangles, each node its children's union on the way up.
   const std::size_t n = primIds_.size();
-  const std::uint32_t* ids = primIds_.data();
-  const std::uint32_t* indices = mesh.indices.data();
-  const Vec3f* positions = mesh.positions.data();
-  TriangleVertices* triangles = triangles_.data();
+  forEachIndex(n, 4096, [&](std::size_t i) { triangles_[rank_[i]] = verticesOf(mesh, i); });
   const auto leaf = [&](std::uint32_t first, std::uint32_t count, TriangleSummary& acc) {
-    bool anyDegenerate = false;
-    Box3f box;
-    for (std::uint32_t k = first; k < first + count; ++k) {
-      // Leaf order is Morton order, not mesh order: every triangle is a dependent gather
-      // (index, then vertices) that the hardware cannot predict. Fetching the indices two
-      // steps and the vertices one step ahead hides most of that latency.
-      if (k + 2 * kPrefetchDistance < n)
-        prefetch(indices + 3 * std::size_t{ids[k + 2 * kPrefetchDistance]});
-      if (k + kPrefetchDistance < n) {
-        const std::uint32_t* ahead = indices + 3 * std::size_t{ids[k + kPrefetchDistance]};
-        prefetch(positions + ahead[0]);
-        prefetch(positions + ahead[1]);
-        prefetch(positions + ahead[2]);
-      }
-      const std::uint32_t* idx = indices + 3 * std::size_t{ids[k]};
-      const Vec3f a = positions[idx[0]], b = positions[idx[1]], c = positions[idx[2]];
-      triangles[k].v0 = a;
-      triangles[k].v1 = b;
-      triangles[k].v2 = c;
-      const Box3f t{min(min(a, b), c), max(max(a, b), c)};
-      if (degenerate(a, b, c)) {
-        anyDegenerate = true;
-        ++acc.degenerate;
-      }
-      box.extend(t);
-    }
-    // The object's bounds leave degenerate triangles out: a leaf without any adds its box as
-    // a whole, the rare others triangle by triangle.
-    if (!anyDegenerate) {
-      acc.bounds.extend(box);
-    } else {
-      for (std::uint32_t k = first; k < first + count; ++k) {
-        const TriangleVertices& t = triangles[k];
-        if (!degenerate(t.v0, t.v1, t.v2)) acc.bounds.extend(boxOf(t));
-      }
-    }
-    return box;
+    return leafBox(triangles_.data(), first, count, acc);
   };
   TriangleSummary summary;
   Bvh4SahSum sum;
