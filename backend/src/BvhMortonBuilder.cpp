@@ -12,6 +12,13 @@
 
 #include "Bvh4Refit.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#define TG_MORTON_SSE 1
+#else
+#define TG_MORTON_SSE 0
+#endif
+
 namespace tg::detail {
 namespace {
 
@@ -59,6 +66,47 @@ inline std::uint32_t cellOf(float c, float lower, float scale) {
   f = f < kCells - 1.0f ? f : kCells - 1.0f;
   return static_cast<std::uint32_t>(f);
 }
+
+#if TG_MORTON_SSE
+/// spreadBits of four cells, by shifts (SSE2 has no 32-bit multiply); same bits.
+inline __m128i spreadBits4(__m128i v) {
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 16)), _mm_set1_epi32(0x030000FF));
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 8)), _mm_set1_epi32(0x0300F00F));
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 4)), _mm_set1_epi32(0x030C30C3));
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 2)), _mm_set1_epi32(0x09249249));
+  return v;
+}
+
+/// The keys of centroids [begin, end) four at a time, rounded exactly like cellOf (max and min
+/// return their second operand for a NaN, as cellOf's comparisons do); returns where the
+/// scalar loop must take over.
+std::size_t mortonKeysSse(const Vec3f* centroids, std::size_t begin, std::size_t end,
+                          const float lower[3], const float scale[3], std::uint64_t* keys) {
+  const __m128 zero = _mm_setzero_ps(), last = _mm_set1_ps(kCells - 1.0f);
+  __m128 lo[3], sc[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = _mm_set1_ps(lower[a]);
+    sc[a] = _mm_set1_ps(scale[a]);
+  }
+  std::size_t i = begin;
+  for (; i + 4 <= end; i += 4) {
+    __m128i code = _mm_setzero_si128();
+    for (int a = 0; a < 3; ++a) {
+      const __m128 c = _mm_setr_ps(centroids[i][a], centroids[i + 1][a], centroids[i + 2][a],
+                                   centroids[i + 3][a]);
+      __m128 f = _mm_mul_ps(_mm_sub_ps(c, lo[a]), sc[a]);
+      f = _mm_min_ps(_mm_max_ps(f, zero), last);
+      code = _mm_or_si128(code, _mm_slli_epi32(spreadBits4(_mm_cvttps_epi32(f)), 2 - a));
+    }
+    const __m128i index = _mm_setr_epi32(static_cast<int>(i), static_cast<int>(i + 1),
+                                         static_cast<int>(i + 2), static_cast<int>(i + 3));
+    // (code << 32) | index, little-endian: the index is the low word of each key.
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(keys + i), _mm_unpacklo_epi32(index, code));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(keys + i + 2), _mm_unpackhi_epi32(index, code));
+  }
+  return i;
+}
+#endif
 
 /// Where a range splits: the first code with the highest bit in which the range's codes differ,
 /// or the middle when all codes are equal (which halves the range, so equal codes add at most
@@ -181,7 +229,11 @@ void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids,
   }
   keys_.resize(n);
   forRange(n, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
+    std::size_t i = begin;
+#if TG_MORTON_SSE
+    i = mortonKeysSse(centroids.data(), begin, end, cb.lower, scale, keys_.data());
+#endif
+    for (; i < end; ++i) {
       std::uint32_t code = 0;
       for (int a = 0; a < 3; ++a) {
         const std::uint32_t cell = cellOf(centroids[i][a], cb.lower[a], scale[a]);

@@ -493,3 +493,52 @@ BOOST_AUTO_TEST_CASE(prim_interface_matches_the_box_interface) {
   for (std::size_t k = 0; k < order.size(); ++k) BOOST_TEST_REQUIRE(prims[k].id == order[k]);
   BOOST_TEST(sameTree(viaPrims.nodes, 0, viaBoxes.nodes, 0));
 }
+
+namespace {
+
+/// The Morton code of one centroid as documented (1024 cells per axis within the centroid
+/// bounds, x in the highest of each three bits), written plainly.
+std::uint32_t referenceCode(const Vec3f& c, const MortonCentroidBounds& b) {
+  std::uint32_t code = 0;
+  for (int a = 0; a < 3; ++a) {
+    const float extent = b.upper[a] - b.lower[a];
+    const float scale =
+        extent > 0.0f && extent < MortonCentroidBounds::kInf ? 1024.0f / extent : 0.0f;
+    float f = (c[a] - b.lower[a]) * scale;
+    f = f > 0.0f ? f : 0.0f;
+    f = f < 1023.0f ? f : 1023.0f;
+    const std::uint32_t cell = static_cast<std::uint32_t>(f);
+    for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1u) << (3 * bit + (2 - a));
+  }
+  return code;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(sort_orders_by_the_documented_codes) {
+  // Sizes that leave a remainder after groups of four, small and large (parallel blocks), with
+  // duplicates, NaN centroids and centroids on the bounds.
+  std::mt19937 rng(10);
+  std::uniform_real_distribution<float> pos(-3.0f, 7.0f);
+  for (std::size_t n : {1u, 3u, 5u, 1023u, 50001u}) {
+    std::vector<Vec3f> centroids(n);
+    for (Vec3f& c : centroids) c = {pos(rng), pos(rng), pos(rng)};
+    for (std::size_t i = 0; i < n; i += 5) centroids[i] = centroids[i / 3];
+    if (n > 3) centroids[2].y = std::numeric_limits<float>::quiet_NaN();
+    MortonCentroidBounds bounds;
+    for (const Vec3f& c : centroids) bounds.add(c);
+    std::vector<std::uint32_t> expected(n);
+    for (std::uint32_t i = 0; i < n; ++i) expected[i] = i;
+    std::stable_sort(expected.begin(), expected.end(), [&](std::uint32_t x, std::uint32_t y) {
+      return referenceCode(centroids[x], bounds) < referenceCode(centroids[y], bounds);
+    });
+    BvhMortonBuilder builder;
+    std::vector<std::uint32_t> order;
+    builder.sort(centroids, order);
+    BOOST_TEST((order == expected), "n=" << n);
+    // Given bounds give the same order.
+    std::vector<std::uint32_t> withBounds;
+    builder.sort(centroids, withBounds, &bounds);
+    BOOST_TEST((withBounds == expected), "n=" << n);
+  }
+}
