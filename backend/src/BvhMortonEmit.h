@@ -40,12 +40,10 @@ struct MortonCounts {
 /// Node buffers and job lists of the emission, kept between builds so that per-frame rebuilds
 /// do not allocate once the primitive count has stopped growing.
 struct MortonEmitScratch {
-  /// A subtree built as one job, below a node of the top part.
+  /// A subtree built as one job, below a node of the top part (topJobs says which slot).
   struct Job {
     MortonRange range;
-    std::uint32_t parent = 0;  ///< top node holding the job's root
-    int slot = 0;              ///< slot of that node
-    std::size_t depth = 0;     ///< level of the job's root
+    std::size_t depth = 0;  ///< level of the job's root
   };
   std::vector<Job> jobs;
   std::vector<Bvh4NodeArray> buffers;  ///< one node buffer per job
@@ -53,6 +51,7 @@ struct MortonEmitScratch {
   std::vector<std::int32_t> topJobs;   ///< per top node and slot: job index or -1
   std::vector<Box3f> topBoxes;         ///< union of each top node's slots
   std::vector<Bvh4SahSum> topSums;     ///< SAH sums of each top node's subtree
+  /// Bytes held.
   std::size_t bytes() const {
     std::size_t b = jobs.capacity() * sizeof(Job) + offsets.capacity() * sizeof(std::uint32_t) +
                     topJobs.capacity() * sizeof(std::int32_t) +
@@ -83,6 +82,7 @@ class MortonEmitter {
         intersectionCost_(intersectionCost),
         leafBox_(leafBox) {}
 
+  /// Emits the tree over codes [0, n), with jobs of at most `jobSize` primitives.
   void run(std::uint32_t n, std::size_t jobSize, MortonEmitScratch& scratch, BvhBuildResult& out,
            Acc& acc) {
     out.leaves = 0;
@@ -252,7 +252,7 @@ class MortonEmitter {
         node.count[c] = 0;
         scratch.topJobs[4 * std::size_t{index} + static_cast<std::size_t>(c)] =
             static_cast<std::int32_t>(scratch.jobs.size());
-        scratch.jobs.push_back({r, index, c, depth + 1});
+        scratch.jobs.push_back({r, depth + 1});
       } else {
         node.child[c] = next;
         node.count[c] = 0;
