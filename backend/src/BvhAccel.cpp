@@ -95,8 +95,8 @@ inline bool degenerate(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
 
 /// Box of the leaf triangles [first, first + count) (in leaf order); their degenerate count
 /// and the bounds of the others go into `acc`.
-Box3f leafBox(const TriangleVertices* triangles, std::uint32_t first, std::uint32_t count,
-              TriangleSummary& acc) {
+inline Box3f leafBox(const TriangleVertices* triangles, std::uint32_t first, std::uint32_t count,
+                     TriangleSummary& acc) {
   Box3f box;
   for (std::uint32_t k = first; k < first + count; ++k) {
     const TriangleVertices& t = triangles[k];
