@@ -24,18 +24,6 @@ constexpr std::size_t kParallelTriangles = 8192;
 /// Top levels of a large tree whose children refit as parallel tasks: 4^2 subtrees keep two
 /// threads busy, however unevenly the triangles are spread.
 constexpr int kParallelRefitLevels = 2;
-/// Triangles ahead of the current one whose vertices the refit prefetches.
-constexpr std::size_t kPrefetchDistance = 8;
-
-/// Asks for the cache line holding `p` without waiting for it.
-inline void prefetch(const void* p) {
-#if defined(__GNUC__)
-  __builtin_prefetch(p);
-#else
-  (void)p;
-#endif
-}
-
 /// Degenerate count and bounds of the non-degenerate triangles, reduced over a mesh.
 struct TriangleSummary {
   std::size_t degenerate = 0;
@@ -103,6 +91,24 @@ inline bool certainlyNonDegenerate(const Vec3f& a, const Vec3f& b, const Vec3f& 
 /// as much as the rest of a refit's work on a triangle.
 inline bool degenerate(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
   return !certainlyNonDegenerate(a, b, c) && isDegenerateTriangle(a, b, c);
+}
+
+/// Box of the leaf triangles [first, first + count) (in leaf order); their degenerate count
+/// and the bounds of the others go into `acc`.
+inline Box3f leafBox(const TriangleVertices* triangles, std::uint32_t first, std::uint32_t count,
+                     TriangleSummary& acc) {
+  Box3f box;
+  for (std::uint32_t k = first; k < first + count; ++k) {
+    const TriangleVertices& t = triangles[k];
+    const Box3f b = boxOf(t);
+    box.extend(b);
+    if (degenerate(t.v0, t.v1, t.v2)) {
+      ++acc.degenerate;
+    } else {
+      acc.bounds.extend(b);
+    }
+  }
+  return box;
 }
 
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
@@ -175,12 +181,44 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
 void BvhAccel::buildMorton(const TriangleMesh& mesh) {
   const std::size_t n = mesh.triangleCount();
   // Every triangle takes part, degenerate ones included (see BvhAccel). The builder needs only
-  // the box centres (as lower + upper); boxes come from the refit pass below.
+  // the box centres (as lower + upper) to sort; boxes come with the nodes.
   centroids_.resize(n);
+  const auto centroidBlock = [&](std::size_t begin, std::size_t end, MortonCentroidBounds acc) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const TriangleVertices t = verticesOf(mesh, i);
+      centroids_[i] = min(min(t.v0, t.v1), t.v2) + max(max(t.v0, t.v1), t.v2);
+      acc.add(centroids_[i]);
+    }
+    return acc;
+  };
+  const MortonCentroidBounds centroidBounds =
+      n < kParallelTriangles
+          ? centroidBlock(0, n, MortonCentroidBounds{})
+          : tbb::parallel_reduce(
+                tbb::blocked_range<std::size_t>(0, n, 4096), MortonCentroidBounds{},
+                [&](const tbb::blocked_range<std::size_t>& r, const MortonCentroidBounds& acc) {
+                  return centroidBlock(r.begin(), r.end(), acc);
+                },
+                [](MortonCentroidBounds a, const MortonCentroidBounds& b) {
+                  a.merge(b);
+                  return a;
+                });
+  rank_.resize(n);
+  morton_.sort(centroids_, primIds_, &centroidBounds, rank_.data());
+  // Triangles go to their leaf positions by a scatter in mesh order rather than a gather in
+  // leaf order: the mesh is then read front to back, and the random accesses are stores, which
+  // do not wait for memory the way dependent loads (index, then vertices) do. The same pass
+  // keeps the indices for the refit check.
+  triangles_.resize(n);
+  indices_.resize(mesh.indices.size());
   forEachIndex(n, 4096, [&](std::size_t i) {
-    const TriangleVertices t = verticesOf(mesh, i);
-    centroids_[i] = min(min(t.v0, t.v1), t.v2) + max(max(t.v0, t.v1), t.v2);
+    const std::uint32_t* idx = mesh.indices.data() + 3 * i;
+    indices_[3 * i] = idx[0];
+    indices_[3 * i + 1] = idx[1];
+    indices_[3 * i + 2] = idx[2];
+    triangles_[rank_[i]] = {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
   });
+  for (std::size_t k = 3 * n; k < mesh.indices.size(); ++k) indices_[k] = mesh.indices[k];
   BvhMortonOptions options;
   // Two triangles per leaf at most: Morton leaves are looser than SAH leaves, and bigger ones
   // cost more triangle tests than the node tests they save (BART robots and kitchen).
@@ -189,11 +227,17 @@ void BvhAccel::buildMorton(const TriangleMesh& mesh) {
   options.intersectionCost = kIntersectionCost;
   BvhBuildResult result;
   result.nodes.swap(nodes_);  // reuse the node memory of the previous build
-  morton_.buildTopology(centroids_, options, primIds_, result);
+  TriangleSummary summary;
+  morton_.emit(
+      options,
+      [&](std::uint32_t first, std::uint32_t count, TriangleSummary& acc) {
+        return leafBox(triangles_.data(), first, count, acc);
+      },
+      result, summary);
   nodes_.swap(result.nodes);
-  triangles_.resize(n);
-  indices_ = mesh.indices;
-  refitFromMesh(mesh);
+  bounds_ = summary.bounds;
+  stats_.degenerate = summary.degenerate;
+  stats_.sahCost = nodes_.empty() ? 0.0 : result.sahCost;
   stats_.leaves = result.leaves;
   stats_.maxDepth = result.maxDepth;
   stats_.primReferences = n;
@@ -209,51 +253,13 @@ bool BvhAccel::refit(const TriangleMesh& mesh) {
 }
 
 void BvhAccel::refitFromMesh(const TriangleMesh& mesh) {
-  // One pass down the tree and back: each leaf copies its triangles' vertices (in leaf order)
-  // and returns their box, each node its children's union on the way up.
+  // The vertices go to their leaf positions as in a build (a scatter in mesh order, see
+  // buildMorton), then one pass down the tree and back: each leaf returns the box of its
+  // triangles, each node its children's union on the way up.
   const std::size_t n = primIds_.size();
-  const std::uint32_t* ids = primIds_.data();
-  const std::uint32_t* indices = mesh.indices.data();
-  const Vec3f* positions = mesh.positions.data();
-  TriangleVertices* triangles = triangles_.data();
+  forEachIndex(n, 4096, [&](std::size_t i) { triangles_[rank_[i]] = verticesOf(mesh, i); });
   const auto leaf = [&](std::uint32_t first, std::uint32_t count, TriangleSummary& acc) {
-    bool anyDegenerate = false;
-    Box3f box;
-    for (std::uint32_t k = first; k < first + count; ++k) {
-      // Leaf order is Morton order, not mesh order: every triangle is a dependent gather
-      // (index, then vertices) that the hardware cannot predict. Fetching the indices two
-      // steps and the vertices one step ahead hides most of that latency.
-      if (k + 2 * kPrefetchDistance < n)
-        prefetch(indices + 3 * std::size_t{ids[k + 2 * kPrefetchDistance]});
-      if (k + kPrefetchDistance < n) {
-        const std::uint32_t* ahead = indices + 3 * std::size_t{ids[k + kPrefetchDistance]};
-        prefetch(positions + ahead[0]);
-        prefetch(positions + ahead[1]);
-        prefetch(positions + ahead[2]);
-      }
-      const std::uint32_t* idx = indices + 3 * std::size_t{ids[k]};
-      const Vec3f a = positions[idx[0]], b = positions[idx[1]], c = positions[idx[2]];
-      triangles[k].v0 = a;
-      triangles[k].v1 = b;
-      triangles[k].v2 = c;
-      const Box3f t{min(min(a, b), c), max(max(a, b), c)};
-      if (degenerate(a, b, c)) {
-        anyDegenerate = true;
-        ++acc.degenerate;
-      }
-      box.extend(t);
-    }
-    // The object's bounds leave degenerate triangles out: a leaf without any adds its box as
-    // a whole, the rare others triangle by triangle.
-    if (!anyDegenerate) {
-      acc.bounds.extend(box);
-    } else {
-      for (std::uint32_t k = first; k < first + count; ++k) {
-        const TriangleVertices& t = triangles[k];
-        if (!degenerate(t.v0, t.v1, t.v2)) acc.bounds.extend(boxOf(t));
-      }
-    }
-    return box;
+    return leafBox(triangles_.data(), first, count, acc);
   };
   TriangleSummary summary;
   Bvh4SahSum sum;
@@ -269,11 +275,11 @@ void BvhAccel::refitFromMesh(const TriangleMesh& mesh) {
 void BvhAccel::finishStats() {
   stats_.refitted = false;
   stats_.nodes = nodes_.size() + stats_.leaves;
-  stats_.bytes = nodes_.capacity() * sizeof(Bvh4Node) +
-                 triangles_.capacity() * sizeof(TriangleVertices) +
-                 primIds_.capacity() * sizeof(std::uint32_t) +
-                 indices_.capacity() * sizeof(std::uint32_t) + prims_.capacity() * sizeof(BvhPrim) +
-                 centroids_.capacity() * sizeof(Vec3f) + morton_.scratchBytes();
+  stats_.bytes =
+      nodes_.capacity() * sizeof(Bvh4Node) + triangles_.capacity() * sizeof(TriangleVertices) +
+      primIds_.capacity() * sizeof(std::uint32_t) + indices_.capacity() * sizeof(std::uint32_t) +
+      prims_.capacity() * sizeof(BvhPrim) + centroids_.capacity() * sizeof(Vec3f) +
+      rank_.capacity() * sizeof(std::uint32_t) + morton_.scratchBytes();
 }
 
 bool BvhAccel::intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) const {

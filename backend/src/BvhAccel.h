@@ -65,7 +65,7 @@ class BvhAccel final : public ObjectAccel {
   /// AccelKind::BvhFast: Morton build over every triangle.
   void buildMorton(const TriangleMesh& mesh);
   /// Copies the triangles of `mesh` into leaf order and recomputes every box, the bounds, the
-  /// degenerate count and the SAH cost: the second half of a Morton build and all of a refit.
+  /// degenerate count and the SAH cost over the topology of the last Morton build (a refit).
   void refitFromMesh(const TriangleMesh& mesh);
   void finishStats();
 
@@ -76,6 +76,7 @@ class BvhAccel final : public ObjectAccel {
   std::vector<std::uint32_t> indices_;       ///< mesh indices at the last build (refit check)
   std::vector<BvhPrim> prims_;               ///< SAH build scratch
   std::vector<Vec3f> centroids_;             ///< Morton build scratch: lower + upper per box
+  std::vector<std::uint32_t> rank_;          ///< leaf position of each mesh triangle (for refits)
   BvhMortonBuilder morton_;                  ///< Morton build scratch, kept between builds
   Box3f bounds_;
   BuildStats stats_;

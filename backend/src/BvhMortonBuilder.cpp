@@ -7,11 +7,17 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <limits>
 
 #include "Bvh4Refit.h"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#define TG_MORTON_SSE 1
+#else
+#define TG_MORTON_SSE 0
+#endif
 
 namespace tg::detail {
 namespace {
@@ -19,17 +25,17 @@ namespace {
 /// Loops over fewer elements run on the calling thread: below this, scheduling tasks costs
 /// more than it saves.
 constexpr std::size_t kParallelElements = 16384;
-/// The radix sort cuts large inputs into at most this many blocks of at least
-/// kParallelElements keys. The cut depends only on the input size, and the sort is stable
-/// whatever the cut, so the order never depends on the thread count.
+/// The radix sort cuts inputs into at most this many blocks of at least kSortBlockKeys keys.
+/// The cut depends only on the input size, and the sort is stable whatever the cut, so the
+/// order never depends on the thread count. More blocks than threads let a thread that gets
+/// the core back late leave its share to the others.
 constexpr std::size_t kMaxSortBlocks = 8;
+constexpr std::size_t kSortBlockKeys = 4096;
 /// Bits per radix digit: three passes cover the 30-bit codes, stored above the 32-bit index.
 constexpr int kDigitBits = 10;
 constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
 /// Quantisation cells per axis (10 bits each).
 constexpr float kCells = 1024.0f;
-/// Top levels of a large tree whose boxes are gathered as parallel tasks (4^2 subtrees).
-constexpr int kParallelRefitLevels = 2;
 
 template <class Fn>
 void forRange(std::size_t n, Fn&& fn) {
@@ -61,150 +67,101 @@ inline std::uint32_t cellOf(float c, float lower, float scale) {
   return static_cast<std::uint32_t>(f);
 }
 
-/// Bounds of the centroids, written so that a NaN component (the centroid of an empty box)
-/// leaves them as they are.
-struct CentroidBounds {
-  float lower[3] = {kInf, kInf, kInf};
-  float upper[3] = {-kInf, -kInf, -kInf};
-  static constexpr float kInf = std::numeric_limits<float>::infinity();
+#if TG_MORTON_SSE
+/// spreadBits of four cells, by shifts (SSE2 has no 32-bit multiply); same bits.
+inline __m128i spreadBits4(__m128i v) {
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 16)), _mm_set1_epi32(0x030000FF));
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 8)), _mm_set1_epi32(0x0300F00F));
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 4)), _mm_set1_epi32(0x030C30C3));
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 2)), _mm_set1_epi32(0x09249249));
+  return v;
+}
 
-  void add(const Vec3f& c) {
+/// The keys of centroids [begin, end) four at a time, rounded exactly like cellOf (max and min
+/// return their second operand for a NaN, as cellOf's comparisons do); returns where the
+/// scalar loop must take over.
+std::size_t mortonKeysSse(const Vec3f* centroids, std::size_t begin, std::size_t end,
+                          const float lower[3], const float scale[3], std::uint64_t* keys) {
+  const __m128 zero = _mm_setzero_ps(), last = _mm_set1_ps(kCells - 1.0f);
+  __m128 lo[3], sc[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = _mm_set1_ps(lower[a]);
+    sc[a] = _mm_set1_ps(scale[a]);
+  }
+  std::size_t i = begin;
+  for (; i + 4 <= end; i += 4) {
+    __m128i code = _mm_setzero_si128();
     for (int a = 0; a < 3; ++a) {
-      lower[a] = c[a] < lower[a] ? c[a] : lower[a];
-      upper[a] = c[a] > upper[a] ? c[a] : upper[a];
+      const __m128 c = _mm_setr_ps(centroids[i][a], centroids[i + 1][a], centroids[i + 2][a],
+                                   centroids[i + 3][a]);
+      __m128 f = _mm_mul_ps(_mm_sub_ps(c, lo[a]), sc[a]);
+      f = _mm_min_ps(_mm_max_ps(f, zero), last);
+      code = _mm_or_si128(code, _mm_slli_epi32(spreadBits4(_mm_cvttps_epi32(f)), 2 - a));
     }
+    const __m128i index = _mm_setr_epi32(static_cast<int>(i), static_cast<int>(i + 1),
+                                         static_cast<int>(i + 2), static_cast<int>(i + 3));
+    // (code << 32) | index, little-endian: the index is the low word of each key.
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(keys + i), _mm_unpacklo_epi32(index, code));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(keys + i + 2), _mm_unpackhi_epi32(index, code));
   }
-  void merge(const CentroidBounds& o) {
-    for (int a = 0; a < 3; ++a) {
-      lower[a] = std::min(lower[a], o.lower[a]);
-      upper[a] = std::max(upper[a], o.upper[a]);
-    }
+  return i;
+}
+#endif
+
+/// Where a range splits: the first code with the highest bit in which the range's codes differ,
+/// or the middle when all codes are equal (which halves the range, so equal codes add at most
+/// log2(n) levels).
+std::uint32_t splitMortonRange(const std::uint32_t* codes, MortonRange r) {
+  const std::uint32_t first = codes[r.begin], last = codes[r.end - 1];
+  if (first == last) return r.begin + r.count() / 2;
+  const std::uint32_t bit = std::uint32_t{1} << (std::bit_width(first ^ last) - 1);
+  // The codes share every bit above `bit`, so those with it clear come first. codes[begin] has
+  // it clear and codes[end - 1] set: the split lies in [begin + 1, end - 1]. Branch-free
+  // bisection: the direction of each step is a coin toss the branch predictor cannot learn,
+  // and a conditional move costs less than the mispredictions.
+  const std::uint32_t* base = codes + r.begin;
+  std::uint32_t len = r.count();
+  while (len > 1) {
+    const std::uint32_t half = len / 2;
+    base = (base[half] & bit) ? base : base + half;
+    len -= half;
   }
-};
-
-/// The top-down pass over the sorted codes: creates the nodes, slot boxes left empty.
-class Hierarchy {
- public:
-  Hierarchy(const std::uint32_t* codes, const BvhMortonOptions& options, Bvh4NodeArray& nodes)
-      : codes_(codes),
-        options_(options),
-        maxLeaf_(std::max<std::uint32_t>(options.maxLeafSize, 1)),
-        nodes_(nodes) {}
-
-  /// Builds the tree over [0, n) into nodes (sized for the worst case by the caller) and
-  /// returns the number of nodes used.
-  std::uint32_t run(std::uint32_t n, BvhBuildResult& out) {
-    const Counts counts = buildNode(0, {0, n}, 0);
-    out.leaves = counts.leaves;
-    out.maxDepth = counts.maxDepth;
-    return nextNode_.load(std::memory_order_relaxed);
-  }
-
- private:
-  struct Range {
-    std::uint32_t begin, end;
-    std::uint32_t count() const { return end - begin; }
-  };
-
-  /// Leaf slots and deepest node level of a subtree, returned up the recursion rather than
-  /// counted in shared atomics that both threads would fight over.
-  struct Counts {
-    std::size_t leaves = 0;
-    std::size_t maxDepth = 0;
-    void merge(const Counts& o) {
-      leaves += o.leaves;
-      maxDepth = std::max(maxDepth, o.maxDepth);
-    }
-  };
-
-  /// Where a range splits: the first code with the highest bit in which the range's codes
-  /// differ, or the middle when all codes are equal (which halves the range, so equal codes add
-  /// at most log2(n) levels).
-  std::uint32_t split(const Range& r) const {
-    const std::uint32_t first = codes_[r.begin], last = codes_[r.end - 1];
-    if (first == last) return r.begin + r.count() / 2;
-    const std::uint32_t bit = std::uint32_t{1} << (std::bit_width(first ^ last) - 1);
-    // The codes share every bit above `bit`, so those with it clear come first. codes_[begin]
-    // has it clear and codes_[end - 1] set: the split lies in [begin + 1, end - 1].
-    const std::uint32_t* at = std::partition_point(codes_ + r.begin + 1, codes_ + r.end - 1,
-                                                   [bit](std::uint32_t c) { return !(c & bit); });
-    return static_cast<std::uint32_t>(at - codes_);
-  }
-
-  Counts buildNode(std::uint32_t index, Range range, std::size_t depth) {
-    // Open the range that must split and spans the largest cell of the code grid (the highest
-    // differing bit; then the most primitives) until there are four: like the SAH builder's
-    // widest child first, it keeps big boxes from sharing a node with small ones. Every child
-    // range is at least one binary level below this node's, so the BVH4 is no deeper than the
-    // binary tree.
-    Range ranges[4] = {range, {}, {}, {}};
-    int n = 1;
-    while (n < 4) {
-      int largest = -1;
-      std::uint64_t largestKey = 0;
-      for (int c = 0; c < n; ++c) {
-        if (ranges[c].count() <= maxLeaf_) continue;
-        const std::uint64_t key =
-            (std::uint64_t{codes_[ranges[c].begin] ^ codes_[ranges[c].end - 1]} << 32) |
-            ranges[c].count();
-        if (key > largestKey) {
-          largestKey = key;
-          largest = c;
-        }
-      }
-      if (largest < 0) break;
-      const Range parent = ranges[largest];
-      const std::uint32_t mid = split(parent);
-      // Keep the slots in code order: neighbours on the curve stay neighbours in memory.
-      for (int c = n; c > largest + 1; --c) ranges[c] = ranges[c - 1];
-      ranges[largest] = {parent.begin, mid};
-      ranges[largest + 1] = {mid, parent.end};
-      ++n;
-    }
-
-    Bvh4Node& node = nodes_[index];
-    node = Bvh4Node::makeEmpty();
-    Counts counts;
-    counts.maxDepth = depth;
-    bool large = false;
-    std::uint32_t inner = 0;
-    for (int c = 0; c < n; ++c) inner += ranges[c].count() > maxLeaf_ ? 1u : 0u;
-    // Children are numbered after their parent, which lets a refit run bottom-up by walking the
-    // nodes backwards. One shared counter update per node, not per child: both threads
-    // allocate from it, and every update moves its cache line between them.
-    std::uint32_t next = inner == 0 ? 0 : nextNode_.fetch_add(inner, std::memory_order_relaxed);
-    for (int c = 0; c < n; ++c) {
-      if (ranges[c].count() <= maxLeaf_) {
-        node.child[c] = ranges[c].begin;
-        node.count[c] = ranges[c].count();
-        ++counts.leaves;
-      } else {
-        node.child[c] = next++;
-        node.count[c] = 0;
-        large = large || ranges[c].count() > options_.parallelThreshold;
-      }
-    }
-    if (large) {
-      Counts children[4];
-      tbb::parallel_for(0, n, [&](int c) {
-        if (node.count[c] == 0) children[c] = buildNode(node.child[c], ranges[c], depth + 1);
-      });
-      for (int c = 0; c < n; ++c) counts.merge(children[c]);
-    } else {
-      for (int c = 0; c < n; ++c)
-        if (node.count[c] == 0) counts.merge(buildNode(node.child[c], ranges[c], depth + 1));
-    }
-    return counts;
-  }
-
-  const std::uint32_t* codes_;
-  const BvhMortonOptions& options_;
-  const std::uint32_t maxLeaf_;
-  Bvh4NodeArray& nodes_;
-  std::atomic<std::uint32_t> nextNode_{1};
-};
+  return static_cast<std::uint32_t>(base - codes) + 1;
+}
 
 }  // namespace
+
+int openMortonRanges(const std::uint32_t* codes, MortonRange range, std::uint32_t maxLeaf,
+                     MortonRange ranges[4]) {
+  // Like the SAH builder's widest child first, opening the largest cell keeps big boxes from
+  // sharing a node with small ones. Every child range is at least one binary level below this
+  // node's, so the BVH4 is no deeper than the binary tree.
+  ranges[0] = range;
+  int n = 1;
+  while (n < 4) {
+    int largest = -1;
+    std::uint64_t largestKey = 0;
+    for (int c = 0; c < n; ++c) {
+      if (ranges[c].count() <= maxLeaf) continue;
+      const std::uint64_t key =
+          (std::uint64_t{codes[ranges[c].begin] ^ codes[ranges[c].end - 1]} << 32) |
+          ranges[c].count();
+      if (key > largestKey) {
+        largestKey = key;
+        largest = c;
+      }
+    }
+    if (largest < 0) break;
+    const MortonRange parent = ranges[largest];
+    const std::uint32_t mid = splitMortonRange(codes, parent);
+    // Keep the slots in code order: neighbours on the curve stay neighbours in memory.
+    for (int c = n; c > largest + 1; --c) ranges[c] = ranges[c - 1];
+    ranges[largest] = {parent.begin, mid};
+    ranges[largest + 1] = {mid, parent.end};
+    ++n;
+  }
+  return n;
+}
 
 void BvhMortonBuilder::build(std::span<const Box3f> boxes, const BvhMortonOptions& options,
                              std::vector<std::uint32_t>& order, BvhBuildResult& out) {
@@ -213,64 +170,52 @@ void BvhMortonBuilder::build(std::span<const Box3f> boxes, const BvhMortonOption
   forRange(n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) centroids_[i] = boxes[i].lower + boxes[i].upper;
   });
-  buildTopology(centroids_, options, order, out);
-  if (out.nodes.empty()) return;
-  Bvh4SahSum sum;
+  sort(centroids_, order);
   NoLeafData none;
-  out.bounds = refitBvh4(
-      out.nodes, 0,
+  emit(
+      options,
       [&](std::uint32_t first, std::uint32_t count, NoLeafData&) {
         Box3f box;
         for (std::uint32_t k = first; k < first + count; ++k) box.extend(boxes[order[k]]);
         return box;
       },
-      options.traversalCost, options.intersectionCost,
-      n > options.parallelThreshold ? kParallelRefitLevels : 0, sum, none);
-  out.sahCost = sum.finish(out.bounds, options.traversalCost);
+      out, none);
 }
 
-void BvhMortonBuilder::buildTopology(std::span<const Vec3f> centroids,
-                                     const BvhMortonOptions& options,
-                                     std::vector<std::uint32_t>& order, BvhBuildResult& out) {
+void BvhMortonBuilder::sort(std::span<const Vec3f> centroids, std::vector<std::uint32_t>& order,
+                            const MortonCentroidBounds* bounds, std::uint32_t* rank) {
   const std::size_t n = centroids.size();
-  out.leaves = 0;
-  out.maxDepth = 0;
-  out.bounds = Box3f{};
-  out.sahCost = -1.0;
   order.resize(n);
-  if (n == 0) {
-    out.nodes.clear();
-    return;
-  }
-  computeKeys(centroids);
-  sortKeys();
   codes_.resize(n);
+  if (n == 0) return;
+  computeKeys(centroids, bounds);
+  sortKeys();
   forRange(n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
-      order[k] = static_cast<std::uint32_t>(keys_[k]);
+      const std::uint32_t index = static_cast<std::uint32_t>(keys_[k]);
+      order[k] = index;
       codes_[k] = static_cast<std::uint32_t>(keys_[k] >> 32);
+      if (rank != nullptr) rank[index] = static_cast<std::uint32_t>(k);
     }
   });
-  // Every inner node has at least two children, except a root that is a single leaf, so there
-  // are at most as many nodes as primitives.
-  out.nodes.resize(n);
-  Hierarchy hierarchy(codes_.data(), options, out.nodes);
-  out.nodes.resize(hierarchy.run(static_cast<std::uint32_t>(n), out));
 }
 
-void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids) {
+void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids,
+                                   const MortonCentroidBounds* bounds) {
   const std::size_t n = centroids.size();
-  CentroidBounds cb;
-  if (n < kParallelElements) {
+  MortonCentroidBounds cb;
+  if (bounds != nullptr) {
+    cb = *bounds;
+  } else if (n < kParallelElements) {
     for (const Vec3f& c : centroids) cb.add(c);
   } else {
     cb = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, n, 4096), CentroidBounds{},
-        [&](const tbb::blocked_range<std::size_t>& r, CentroidBounds acc) {
+        tbb::blocked_range<std::size_t>(0, n, 4096), MortonCentroidBounds{},
+        [&](const tbb::blocked_range<std::size_t>& r, MortonCentroidBounds acc) {
           for (std::size_t i = r.begin(); i != r.end(); ++i) acc.add(centroids[i]);
           return acc;
         },
-        [](CentroidBounds a, const CentroidBounds& b) {
+        [](MortonCentroidBounds a, const MortonCentroidBounds& b) {
           a.merge(b);
           return a;
         });
@@ -280,11 +225,15 @@ void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids) {
     // No extent (all centroids in one plane), no finite centroid or an overflowing extent:
     // the axis contributes nothing to the code.
     const float extent = cb.upper[a] - cb.lower[a];
-    scale[a] = extent > 0.0f && extent < CentroidBounds::kInf ? kCells / extent : 0.0f;
+    scale[a] = extent > 0.0f && extent < MortonCentroidBounds::kInf ? kCells / extent : 0.0f;
   }
   keys_.resize(n);
   forRange(n, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
+    std::size_t i = begin;
+#if TG_MORTON_SSE
+    i = mortonKeysSse(centroids.data(), begin, end, cb.lower, scale, keys_.data());
+#endif
+    for (; i < end; ++i) {
       std::uint32_t code = 0;
       for (int a = 0; a < 3; ++a) {
         const std::uint32_t cell = cellOf(centroids[i][a], cb.lower[a], scale[a]);
@@ -297,7 +246,7 @@ void BvhMortonBuilder::computeKeys(std::span<const Vec3f> centroids) {
 
 void BvhMortonBuilder::sortKeys() {
   const std::size_t n = keys_.size();
-  const std::size_t blocks = std::clamp<std::size_t>(n / kParallelElements, 1, kMaxSortBlocks);
+  const std::size_t blocks = std::clamp<std::size_t>(n / kSortBlockKeys, 1, kMaxSortBlocks);
   const std::size_t blockSize = (n + blocks - 1) / blocks;
   scratch_.resize(n);
   histogram_.resize(blocks * kDigits);

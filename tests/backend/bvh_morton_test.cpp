@@ -6,13 +6,17 @@
 
 #include <tbb/global_control.h>
 
+#include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
 
 #include "Bvh4Refit.h"
 #include "BvhMortonBuilder.h"
+#include "tracegraph/backend/ObjectAccel.h"
+#include "tracegraph/backend/TriangleMesh.h"
 
 using namespace tg;
 using namespace tg::detail;
@@ -271,6 +275,144 @@ BOOST_AUTO_TEST_CASE(trees_do_not_depend_on_the_thread_count) {
   BOOST_TEST(results[0].maxDepth == results[1].maxDepth);
   BOOST_TEST(results[0].sahCost == results[1].sahCost);
   BOOST_TEST(sameTree(results[0].nodes, 0, results[1].nodes, 0));
+  // Jobs are placed in job order, so even the node numbering is the same.
+  BOOST_TEST_REQUIRE(results[0].nodes.size() == results[1].nodes.size());
+  BOOST_TEST(std::memcmp(results[0].nodes.data(), results[1].nodes.data(),
+                         results[0].nodes.size() * sizeof(Bvh4Node)) == 0);
+}
+
+BOOST_AUTO_TEST_CASE(jobs_give_the_tree_of_a_single_recursion) {
+  // Far apart clusters of different sizes make top nodes with leaf slots, job slots and top
+  // slots side by side; a tiny job size makes many jobs. The tree, its cost and its leaf order
+  // must be those of one recursion over the whole range.
+  std::mt19937 rng(7);
+  std::vector<Box3f> boxes = randomBoxes(rng, 20000, 1.0f);
+  for (std::size_t i = 0; i < boxes.size(); i += 7) {
+    boxes[i].lower = boxes[i].lower * 1e-3f + Vec3f{500, 0, 0};
+    boxes[i].upper = boxes[i].upper * 1e-3f + Vec3f{500, 0, 0};
+  }
+  boxes[11] = {{-1e4f, -1e4f, -1e4f}, {-1e4f, -1e4f, -1e4f}};  // alone in its corner
+  for (std::uint32_t maxLeaf : {1u, 2u, 4u}) {
+    BvhMortonOptions single;
+    single.maxLeafSize = maxLeaf;
+    single.parallelThreshold = boxes.size();
+    BvhBuildResult reference;
+    std::vector<std::uint32_t> referenceOrder;
+    BvhMortonBuilder builder;
+    builder.build(boxes, single, referenceOrder, reference);
+    for (std::size_t jobSize : {4u, 37u, 1000u}) {
+      BvhMortonOptions options = single;
+      options.parallelThreshold = jobSize;
+      BvhBuildResult out;
+      std::vector<std::uint32_t> order;
+      builder.build(boxes, options, order, out);
+      const std::string label =
+          "maxLeaf=" + std::to_string(maxLeaf) + " jobSize=" + std::to_string(jobSize);
+      BOOST_TEST((order == referenceOrder), label);
+      BOOST_TEST(sameTree(out.nodes, 0, reference.nodes, 0), label);
+      BOOST_TEST(out.nodes.size() == reference.nodes.size(), label);
+      BOOST_TEST(out.sahCost == reference.sahCost, label);
+      BOOST_TEST((out.bounds == reference.bounds), label);
+      BOOST_TEST(out.leaves == reference.leaves, label);
+      BOOST_TEST(out.maxDepth == reference.maxDepth, label);
+      // And the tree is valid on its own: every slot box encloses what lies below it.
+      std::vector<Box3f> sorted(boxes.size());
+      for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = boxes[order[k]];
+      std::vector<int> seen(boxes.size(), 0);
+      TreeCheck c;
+      walk(out.nodes, 0, 0, sorted, maxLeaf, seen, c);
+      BOOST_TEST(c.errors == 0u, label << ": " << c.firstError);
+      BOOST_TEST(c.nodesVisited == out.nodes.size(), label);
+    }
+  }
+}
+
+namespace {
+
+/// Counts the primitives the leaf callback saw, as an Acc merged across jobs.
+struct LeafCount {
+  std::size_t primitives = 0;
+  std::size_t leaves = 0;
+  void merge(const LeafCount& o) {
+    primitives += o.primitives;
+    leaves += o.leaves;
+  }
+};
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(emit_calls_the_leaf_callback_once_per_leaf) {
+  std::mt19937 rng(8);
+  const std::vector<Box3f> boxes = randomBoxes(rng, 30000, 1.0f);
+  std::vector<Vec3f> centroids(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) centroids[i] = boxes[i].lower + boxes[i].upper;
+  BvhMortonBuilder builder;
+  std::vector<std::uint32_t> order;
+  std::vector<std::uint32_t> rank(boxes.size());
+  builder.sort(centroids, order, nullptr, rank.data());
+  for (std::size_t k = 0; k < order.size(); ++k) BOOST_TEST_REQUIRE(rank[order[k]] == k);
+  std::vector<std::atomic<int>> visits(boxes.size());
+  BvhMortonOptions options;
+  options.parallelThreshold = 500;
+  BvhBuildResult out;
+  LeafCount count;
+  builder.emit(
+      options,
+      [&](std::uint32_t first, std::uint32_t n, LeafCount& acc) {
+        ++acc.leaves;
+        acc.primitives += n;
+        Box3f box;
+        for (std::uint32_t k = first; k < first + n; ++k) {
+          visits[k].fetch_add(1, std::memory_order_relaxed);
+          box.extend(boxes[order[k]]);
+        }
+        return box;
+      },
+      out, count);
+  BOOST_TEST(count.primitives == boxes.size());
+  BOOST_TEST(count.leaves == out.leaves);
+  std::size_t once = 0;
+  for (const std::atomic<int>& v : visits) once += v.load() == 1 ? 1 : 0;
+  BOOST_TEST(once == boxes.size());
+  // The same tree as build() over the boxes.
+  BvhBuildResult viaBuild;
+  std::vector<std::uint32_t> buildOrder;
+  BvhMortonBuilder().build(boxes, options, buildOrder, viaBuild);
+  BOOST_TEST((buildOrder == order));
+  BOOST_TEST(sameTree(out.nodes, 0, viaBuild.nodes, 0));
+}
+
+BOOST_AUTO_TEST_CASE(object_build_and_refit_of_the_same_mesh_agree) {
+  // The build makes boxes, bounds, degenerate count and cost on its own pass; a refit of the
+  // unchanged mesh recomputes them through the refit pass and must find the same figures.
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> pos(-50.0f, 50.0f), off(-0.5f, 0.5f);
+  TriangleMesh mesh;
+  for (std::uint32_t t = 0; t < 12000; ++t) {
+    const Vec3f c{pos(rng), pos(rng), pos(rng)};
+    for (int k = 0; k < 3; ++k) {
+      mesh.indices.push_back(static_cast<std::uint32_t>(mesh.positions.size()));
+      // Every tenth triangle collapses to a point: degenerate, kept in the tree.
+      mesh.positions.push_back(t % 10 == 0 ? c : c + Vec3f{off(rng), off(rng), off(rng)});
+    }
+  }
+  const std::unique_ptr<ObjectAccel> accel = createObjectAccel(AccelKind::BvhFast);
+  accel->build(mesh);
+  const BuildStats built = accel->stats();
+  const Box3f builtBounds = accel->bounds();
+  BOOST_TEST(built.degenerate == 1200u);
+  BOOST_TEST(built.primReferences == 12000u);
+  BOOST_TEST(accel->refit(mesh));
+  const BuildStats& refitted = accel->stats();
+  BOOST_TEST(refitted.refitted);
+  BOOST_TEST(refitted.degenerate == built.degenerate);
+  BOOST_TEST(refitted.sahCost == built.sahCost);
+  BOOST_TEST((accel->bounds() == builtBounds));
+  // A second build over the reused buffers gives the same figures again.
+  accel->build(mesh);
+  BOOST_TEST(accel->stats().sahCost == built.sahCost);
+  BOOST_TEST(accel->stats().nodes == built.nodes);
+  BOOST_TEST((accel->bounds() == builtBounds));
 }
 
 BOOST_AUTO_TEST_CASE(rebuilds_reuse_the_builder) {
@@ -350,4 +492,53 @@ BOOST_AUTO_TEST_CASE(prim_interface_matches_the_box_interface) {
   BOOST_TEST_REQUIRE(prims.size() == order.size());
   for (std::size_t k = 0; k < order.size(); ++k) BOOST_TEST_REQUIRE(prims[k].id == order[k]);
   BOOST_TEST(sameTree(viaPrims.nodes, 0, viaBoxes.nodes, 0));
+}
+
+namespace {
+
+/// The Morton code of one centroid as documented (1024 cells per axis within the centroid
+/// bounds, x in the highest of each three bits), written plainly.
+std::uint32_t referenceCode(const Vec3f& c, const MortonCentroidBounds& b) {
+  std::uint32_t code = 0;
+  for (int a = 0; a < 3; ++a) {
+    const float extent = b.upper[a] - b.lower[a];
+    const float scale =
+        extent > 0.0f && extent < MortonCentroidBounds::kInf ? 1024.0f / extent : 0.0f;
+    float f = (c[a] - b.lower[a]) * scale;
+    f = f > 0.0f ? f : 0.0f;
+    f = f < 1023.0f ? f : 1023.0f;
+    const std::uint32_t cell = static_cast<std::uint32_t>(f);
+    for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1u) << (3 * bit + (2 - a));
+  }
+  return code;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(sort_orders_by_the_documented_codes) {
+  // Sizes that leave a remainder after groups of four, small and large (parallel blocks), with
+  // duplicates, NaN centroids and centroids on the bounds.
+  std::mt19937 rng(10);
+  std::uniform_real_distribution<float> pos(-3.0f, 7.0f);
+  for (std::size_t n : {1u, 3u, 5u, 1023u, 50001u}) {
+    std::vector<Vec3f> centroids(n);
+    for (Vec3f& c : centroids) c = {pos(rng), pos(rng), pos(rng)};
+    for (std::size_t i = 0; i < n; i += 5) centroids[i] = centroids[i / 3];
+    if (n > 3) centroids[2].y = std::numeric_limits<float>::quiet_NaN();
+    MortonCentroidBounds bounds;
+    for (const Vec3f& c : centroids) bounds.add(c);
+    std::vector<std::uint32_t> expected(n);
+    for (std::uint32_t i = 0; i < n; ++i) expected[i] = i;
+    std::stable_sort(expected.begin(), expected.end(), [&](std::uint32_t x, std::uint32_t y) {
+      return referenceCode(centroids[x], bounds) < referenceCode(centroids[y], bounds);
+    });
+    BvhMortonBuilder builder;
+    std::vector<std::uint32_t> order;
+    builder.sort(centroids, order);
+    BOOST_TEST((order == expected), "n=" << n);
+    // Given bounds give the same order.
+    std::vector<std::uint32_t> withBounds;
+    builder.sort(centroids, withBounds, &bounds);
+    BOOST_TEST((withBounds == expected), "n=" << n);
+  }
 }
