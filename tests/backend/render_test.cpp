@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <string>
@@ -871,6 +872,82 @@ BOOST_AUTO_TEST_CASE(ppm_textures_load_and_sample_with_repeat) {
   BOOST_CHECK_EXCEPTION(Texture::load(path.string()), Error, namesFile);
   std::filesystem::remove(path);
   BOOST_CHECK_EXCEPTION(Texture::load(path.string()), Error, namesFile);  // missing
+}
+
+namespace {
+
+/// Texture::sample as first written: fmod of the scaled coordinate, then every texel index
+/// wrapped with an integer remainder. The faster sampler must return exactly this.
+Vec3f referenceSample(const Texture& tex, const Vec2f& uv, TextureFilter filter) {
+  const double w = tex.width(), h = tex.height();
+  const double x = std::fmod(static_cast<double>(uv.u) * w, w);
+  const double y = std::fmod(static_cast<double>(uv.v) * h, h);
+  auto texel = [&](long long i, long long j) {
+    const long long n = tex.width(), m = tex.height();
+    const long long a = ((i % n) + n) % n, b = ((j % m) + m) % m;
+    return tex.image().rgb(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
+  };
+  if (!std::isfinite(x) || !std::isfinite(y)) return texel(0, 0);
+  if (filter == TextureFilter::Nearest)
+    return texel(static_cast<long long>(std::floor(x)), static_cast<long long>(std::floor(y)));
+  const double fx = x - 0.5, fy = y - 0.5;
+  const double x0 = std::floor(fx), y0 = std::floor(fy);
+  const float ax = static_cast<float>(fx - x0), ay = static_cast<float>(fy - y0);
+  const long long ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
+  const Vec3f top = texel(ix, iy) * (1.0f - ax) + texel(ix + 1, iy) * ax;
+  const Vec3f bottom = texel(ix, iy + 1) * (1.0f - ax) + texel(ix + 1, iy + 1) * ax;
+  return top * (1.0f - ay) + bottom * ay;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(texture_sampling_is_bit_identical_to_the_fmod_reference) {
+  Image image(5, 3, 3);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> value(0.0f, 1.0f);
+  for (float& v : image.data()) v = value(rng);
+  const Texture tex(image, "random 5x3");
+  std::vector<float> coords = {0.0f,
+                               -0.0f,
+                               1.0f,
+                               -1.0f,
+                               0.1f,
+                               -0.1f,
+                               0.5f,
+                               -0.5f,
+                               0.9999999f,
+                               -0.9999999f,
+                               1e-30f,
+                               -1e-30f,
+                               2.0f,
+                               -2.0f,
+                               3.7f,
+                               -3.7f,
+                               1e6f,
+                               -1e7f,
+                               12345.678f,
+                               std::nextafter(1.0f, 2.0f),
+                               std::numeric_limits<float>::infinity(),
+                               std::numeric_limits<float>::quiet_NaN()};
+  // Just inside and outside every texel border and centre of both axes.
+  for (int i = -12; i <= 12; ++i)
+    for (const float d : {0.0f, 0.5f})
+      for (const float n : {5.0f, 3.0f}) {
+        const float c = (static_cast<float>(i) + d) / n;
+        coords.insert(coords.end(), {c, std::nextafter(c, -10.0f), std::nextafter(c, 10.0f)});
+      }
+  std::uniform_real_distribution<float> any(-4.0f, 4.0f);
+  for (int i = 0; i < 200; ++i) coords.push_back(any(rng));
+  std::size_t checked = 0, differing = 0;
+  for (const float u : coords)
+    for (const float v : coords)
+      for (const TextureFilter f : {TextureFilter::Nearest, TextureFilter::Bilinear}) {
+        const Vec3f got = tex.sample({u, v}, f), want = referenceSample(tex, {u, v}, f);
+        differing += std::memcmp(&got, &want, sizeof got) != 0;
+        ++checked;
+      }
+  BOOST_TEST(checked > 100000u);
+  BOOST_TEST(differing == 0u);
 }
 
 BOOST_AUTO_TEST_CASE(textures_modulate_or_replace_the_diffuse_colour) {

@@ -136,8 +136,17 @@ Image loadWithStb(const std::string& path, ColorEncoding encoding) {
 
 /// Wraps i into [0, n) for any integer i (GL_REPEAT).
 std::uint32_t wrap(long long i, std::uint32_t n) {
+  // Nearly every index sample() asks for lies in the image already; the 64-bit division is
+  // then skipped (it cost more than the rest of a bilinear lookup).
+  if (i >= 0 && i < static_cast<long long>(n)) return static_cast<std::uint32_t>(i);
   const long long m = i % static_cast<long long>(n);
   return static_cast<std::uint32_t>(m < 0 ? m + n : m);
+}
+
+/// std::fmod(x, n) for n > 0. Within (-n, n), fmod returns x itself (signed zero included),
+/// so the common case needs no library call; NaN and infinities still go through fmod.
+double wrapCoordinate(double x, double n) {
+  return std::abs(x) < n ? x : std::fmod(x, n);
 }
 
 }  // namespace
@@ -170,8 +179,8 @@ Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
   if (image_.empty()) return {1.0f, 1.0f, 1.0f};
   // Work in double: u * width for u of a few thousand repeats must still pick the right texel.
   // fmod (exact) keeps huge coordinates from overflowing the integer conversion below.
-  const double x = std::fmod(static_cast<double>(uv.u) * image_.width(), image_.width());
-  const double y = std::fmod(static_cast<double>(uv.v) * image_.height(), image_.height());
+  const double x = wrapCoordinate(static_cast<double>(uv.u) * image_.width(), image_.width());
+  const double y = wrapCoordinate(static_cast<double>(uv.v) * image_.height(), image_.height());
   if (!std::isfinite(x) || !std::isfinite(y)) return texel(0, 0);
   if (filter == TextureFilter::Nearest)
     return texel(static_cast<long long>(std::floor(x)), static_cast<long long>(std::floor(y)));
@@ -180,8 +189,11 @@ Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
   const double x0 = std::floor(fx), y0 = std::floor(fy);
   const float ax = static_cast<float>(fx - x0), ay = static_cast<float>(fy - y0);
   const long long ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
-  const Vec3f top = texel(ix, iy) * (1.0f - ax) + texel(ix + 1, iy) * ax;
-  const Vec3f bottom = texel(ix, iy + 1) * (1.0f - ax) + texel(ix + 1, iy + 1) * ax;
+  // Each column and row wrapped once, shared by the two texels that use it.
+  const std::uint32_t c0 = wrap(ix, image_.width()), c1 = wrap(ix + 1, image_.width());
+  const std::uint32_t r0 = wrap(iy, image_.height()), r1 = wrap(iy + 1, image_.height());
+  const Vec3f top = image_.rgb(c0, r0) * (1.0f - ax) + image_.rgb(c1, r0) * ax;
+  const Vec3f bottom = image_.rgb(c0, r1) * (1.0f - ax) + image_.rgb(c1, r1) * ax;
   return top * (1.0f - ay) + bottom * ay;
 }
 
