@@ -22,7 +22,7 @@ bool isBlack(const Vec3f& c) {
 }
 
 /// Calls fn(LightSample, index) for every light of the scene, as seen from point p; `index`
-/// numbers the lights point, directional, then spot (lightCount of them in all).
+/// numbers the lights point, directional, then spot (Shader::lightCount of them in all).
 template <typename Fn>
 void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
   std::size_t index = 0;
@@ -55,10 +55,6 @@ void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
     s.position = l.position;
     fn(s, i);
   }
-}
-
-std::size_t lightCount(const RenderScene& rs) {
-  return rs.pointLights.size() + rs.directionalLights.size() + rs.spotLights.size();
 }
 
 /// Phong terms for unit normal n, unit view vector v and unit light vector l with nl = n.l > 0:
@@ -224,80 +220,36 @@ Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData&
   return whitted_ ? addSecondary(sh, depth, weight, ctx, counters) : sh.color;
 }
 
-void Shader::shadePrimaryBlock(const Ray* rays, const Hit* hits, std::size_t n,
-                               TraversalContext& ctx, TileCounters& counters, BlockScratch& scratch,
-                               PixelSample* out) const {
-  const bool debugMode = settings_.mode == RenderMode::Normals ||
-                         settings_.mode == RenderMode::Classes ||
-                         settings_.mode == RenderMode::Instances;
-  if (!whitted_ || debugMode) {
-    // No shadow rays to gather: shade pixel by pixel.
-    for (std::size_t k = 0; k < n; ++k) out[k] = shadePrimaryHit(rays[k], hits[k], ctx, counters);
-    return;
-  }
-  // Phase 1: per pixel, the surface and every light's term with its shadow ray.
-  const std::size_t lights = lightCount(rs_);
-  scratch.terms.assign(lights * kRayPacketSize, LightTerm{});
-  std::optional<Scene::SurfaceData> sds[kRayPacketSize];
-  std::optional<SurfaceShading> shading[kRayPacketSize];
-  for (std::size_t k = 0; k < n; ++k) {
-    PixelSample& s = out[k];
-    s = PixelSample{};
-    ++counters.traced.primary;
-    if (!hits[k].valid()) {
-      s.color = rs_.background;
-      continue;
-    }
-    s.depth = hits[k].t;
-    s.instanceId = hits[k].instanceId;
-    s.primId = hits[k].primId;
-    sds[k] = scene_.surfaceAt(rays[k], hits[k]);
-    s.normal = sds[k]->shadingNormal;
-    shading[k].emplace(prepare(rays[k], hits[k], *sds[k]));
-    forEachLightTerm(*shading[k], counters, [&](const LightTerm& term, std::size_t index) {
-      scratch.terms[index * kRayPacketSize + k] = term;
-    });
-  }
-  // Phase 2: one packet of shadow rays per light (neighbouring pixels towards one light).
-  Ray shadowRays[kRayPacketSize];
-  std::uint8_t blocked[kRayPacketSize];
-  std::size_t lane[kRayPacketSize];
-  for (std::size_t j = 0; j < lights; ++j) {
-    LightTerm* terms = scratch.terms.data() + j * kRayPacketSize;
-    std::size_t m = 0;
-    for (std::size_t k = 0; k < n; ++k)
-      if (terms[k].needsShadowRay) {
-        lane[m] = k;
-        shadowRays[m++] = terms[k].shadow;
-      }
-    if (m == 0) continue;
-    scene_.occluded(std::span<const Ray>(shadowRays, m), std::span<std::uint8_t>(blocked, m), ctx);
-    for (std::size_t i = 0; i < m; ++i)
-      if (blocked[i]) terms[lane[i]].contributes = false;
-  }
-  // Phase 3: per pixel, the lights in order (the single-ray sum's order), then the secondary
-  // rays one by one.
-  for (std::size_t k = 0; k < n; ++k) {
-    if (!shading[k]) continue;
-    SurfaceShading& sh = *shading[k];
-    for (std::size_t j = 0; j < lights; ++j) {
-      const LightTerm& term = scratch.terms[j * kRayPacketSize + k];
-      if (term.contributes) sh.color += term.local;
-    }
-    out[k].color = addSecondary(sh, 0, 1.0f, ctx, counters);
-  }
+void Shader::collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms,
+                               std::size_t stride) const {
+  forEachLightTerm(sh, counters,
+                   [&](const LightTerm& term, std::size_t index) { terms[index * stride] = term; });
+}
+
+std::size_t Shader::lightCount() const {
+  return rs_.pointLights.size() + rs_.directionalLights.size() + rs_.spotLights.size();
 }
 
 Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, TraversalContext& ctx,
                            TileCounters& counters) const {
+  const SecondaryRays s = planSecondary(sh, depth, weight, counters);
+  const Vec3f reflected =
+      s.reflects ? trace(s.reflection, depth + 1, s.reflectionPathWeight, ctx, counters) : Vec3f{};
+  const Vec3f refracted =
+      s.refracts ? trace(s.refraction, depth + 1, s.refractionPathWeight, ctx, counters) : Vec3f{};
+  return combineSecondary(sh.color, s, reflected, refracted);
+}
+
+SecondaryRays Shader::planSecondary(SurfaceShading& sh, int depth, float weight,
+                                    TileCounters& counters) const {
   const Material& m = sh.material;
   const Vec3f& dir = sh.dir;
   const Vec3f& ns = sh.ns;
   const Vec3f& ng = sh.ng;
   const bool backFace = sh.backFace;
-  Vec3f color = sh.color;
-  // Secondary rays. Glass splits its transmittance T between reflection and refraction by
-  // Fresnel; the mirror part (specular) adds to the reflection, traced as one ray.
+  SecondaryRays out;
+  // Glass splits its transmittance T between reflection and refraction by Fresnel; the mirror
+  // part (specular) adds to the reflection, traced as one ray.
   Vec3f reflectWeight = m.specular;
   float refractWeight = 0.0f;
   Vec3f refractDir;
@@ -321,6 +273,8 @@ Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, Traversa
   } else {
     ++counters.saved.refraction;
   }
+  out.reflectWeight = reflectWeight;
+  out.refractWeight = refractWeight;
 
   if (!isBlack(reflectWeight)) {
     const float childWeight = weight * maxComponent(reflectWeight);
@@ -328,8 +282,9 @@ Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, Traversa
       Vec3f r = reflect(dir, ns);
       if (dot(r, ng) <= 0.0f) r = reflect(dir, ng);  // same reason as for refraction
       ++counters.traced.reflection;
-      color +=
-          reflectWeight * trace(spawnRay(surface(sh), r), depth + 1, childWeight, ctx, counters);
+      out.reflects = true;
+      out.reflection = spawnRay(surface(sh), r);
+      out.reflectionPathWeight = childWeight;
     }
   } else {
     ++counters.saved.reflection;
@@ -339,11 +294,12 @@ Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, Traversa
     const float childWeight = weight * refractWeight;
     if (mayTrace(depth, childWeight, counters)) {
       ++counters.traced.refraction;
-      color += trace(spawnRay(surface(sh), refractDir), depth + 1, childWeight, ctx, counters) *
-               refractWeight;
+      out.refracts = true;
+      out.refraction = spawnRay(surface(sh), refractDir);
+      out.refractionPathWeight = childWeight;
     }
   }
-  return color;
+  return out;
 }
 
 Vec3f Shader::debugColor(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const {
