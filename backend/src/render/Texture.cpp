@@ -2,6 +2,7 @@
 
 #include <stb_image.h>
 
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -154,6 +155,41 @@ double wrapCoordinate(double x, double n) {
 Texture::Texture(Image rgb, std::string name) : image_(std::move(rgb)), name_(std::move(name)) {
   if (image_.channels() != 3 || image_.empty())
     throw Error("Texture " + name_ + ": needs a non-empty 3-channel image");
+  buildPalette();
+}
+
+void Texture::buildPalette() {
+  // Distinct values by bit pattern (so -0 and NaN payloads keep theirs), in an open-addressing
+  // table with room for 256 of them.
+  constexpr std::uint32_t kSlots = 1024;
+  std::vector<std::uint32_t> keys(kSlots);
+  std::vector<std::int16_t> slotCode(kSlots, -1);
+  std::uint32_t distinct = 0;
+  const std::vector<float>& values = image_.data();
+  const std::uint32_t w = image_.width(), h = image_.height();
+  blocksX_ = (w + 3) / 4;
+  codes_.assign(static_cast<std::size_t>(blocksX_) * ((h + 3) / 4), CodeBlock{});
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const auto bits = std::bit_cast<std::uint32_t>(values[i]);
+    std::uint32_t slot = (bits * 2654435761u) >> 22;  // Fibonacci hashing into kSlots
+    while (slotCode[slot] >= 0 && keys[slot] != bits) slot = (slot + 1) % kSlots;
+    if (slotCode[slot] < 0) {
+      if (distinct == palette_.size()) {  // more than 256 values: keep the float image only
+        codes_.clear();
+        codes_.shrink_to_fit();
+        return;
+      }
+      keys[slot] = bits;
+      slotCode[slot] = static_cast<std::int16_t>(distinct);
+      palette_[distinct++] = values[i];
+    }
+    const std::size_t texel = i / 3;
+    const auto column = static_cast<std::uint32_t>(texel % w),
+               row = static_cast<std::uint32_t>(texel / w);
+    codes_[static_cast<std::size_t>(row >> 2) * blocksX_ + (column >> 2)]
+        .codes[(row & 3u) * 4u + (column & 3u)] |= static_cast<std::uint32_t>(slotCode[slot])
+                                                   << (8 * (i % 3));
+  }
 }
 
 Texture Texture::load(const std::string& path, ColorEncoding encoding) {
@@ -172,7 +208,7 @@ Texture Texture::load(const std::string& path, ColorEncoding encoding) {
 }
 
 Vec3f Texture::texel(long long x, long long y) const {
-  return image_.rgb(wrap(x, image_.width()), wrap(y, image_.height()));
+  return at(wrap(x, image_.width()), wrap(y, image_.height()));
 }
 
 Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
@@ -192,8 +228,8 @@ Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
   // Each column and row wrapped once, shared by the two texels that use it.
   const std::uint32_t c0 = wrap(ix, image_.width()), c1 = wrap(ix + 1, image_.width());
   const std::uint32_t r0 = wrap(iy, image_.height()), r1 = wrap(iy + 1, image_.height());
-  const Vec3f top = image_.rgb(c0, r0) * (1.0f - ax) + image_.rgb(c1, r0) * ax;
-  const Vec3f bottom = image_.rgb(c0, r1) * (1.0f - ax) + image_.rgb(c1, r1) * ax;
+  const Vec3f top = at(c0, r0) * (1.0f - ax) + at(c1, r0) * ax;
+  const Vec3f bottom = at(c0, r1) * (1.0f - ax) + at(c1, r1) * ax;
   return top * (1.0f - ay) + bottom * ay;
 }
 
