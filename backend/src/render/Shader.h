@@ -90,7 +90,7 @@ struct WaveScratch {
   };
   /// Levels by depth; a deque, so that adding one never moves the others.
   std::deque<Level> levels;
-  std::vector<LightTerm> terms;  ///< [light][ray] of the level being shaded
+  std::vector<LightTerm> terms;  ///< [ray][light] of the level being shaded
   std::vector<Ray> shadowRays;
   std::vector<std::uint32_t> shadowOwner;  ///< the ray of the level each shadow ray serves
   std::vector<std::uint8_t> blocked;
@@ -124,14 +124,14 @@ class Shader {
   SurfaceShading prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const;
   /// The refined hit point of `sh`, computed once.
   const SurfacePoint& surface(SurfaceShading& sh) const;
-  /// Calls fn(LightTerm, lightIndex) for every light that may add to the colour at `sh`, in
-  /// light order, counting the shadow rays saved and traced.
-  template <typename Fn>
-  void forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Fn&& fn) const;
-  /// Writes the term of light j to terms[j * stride] for every light that may add to the
-  /// colour at `sh` (the others are left as they are), as forEachLightTerm finds them.
-  void collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms,
-                         std::size_t stride) const;
+  /// For every light that may add to the colour at `sh`, in light order: fills the term
+  /// slot(lightIndex) returns, then calls fn(term, lightIndex); counts the shadow rays saved
+  /// and traced.
+  template <typename Slot, typename Fn>
+  void forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&& slot, Fn&& fn) const;
+  /// Fills terms[j] for every light j that may add to the colour at `sh` (the others are left
+  /// as they are), as forEachLightTerm finds them.
+  void collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms) const;
   /// Number of lights of the scene (point, directional and spot).
   std::size_t lightCount() const;
   /// sh.color plus the reflected and refracted light (Whitted mode).

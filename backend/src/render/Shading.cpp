@@ -181,8 +181,9 @@ const SurfacePoint& Shader::surface(SurfaceShading& sh) const {
   return *sh.point;
 }
 
-template <typename Fn>
-void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Fn&& fn) const {
+template <typename Slot, typename Fn>
+void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&& slot,
+                              Fn&& fn) const {
   const bool lit = sh.material.lit();
   forEachLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t index) {
     const float nl = dot(sh.ns, light.direction);
@@ -191,13 +192,18 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Fn&& f
       if (whitted_) ++counters.saved.shadow;
       return;
     }
-    LightTerm term;
-    term.local = light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction, nl);
-    if (isBlack(term.local)) {
+    const Vec3f local =
+        light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction, nl);
+    if (isBlack(local)) {
       if (whitted_) ++counters.saved.shadow;
       return;
     }
+    // Filled in place: a term built aside and then copied cost more than the Phong terms
+    // (partial stores read back as one wide load stall the copy).
+    LightTerm& term = slot(index);
+    term.local = local;
     term.contributes = true;
+    term.needsShadowRay = false;
     if (whitted_) {
       term.shadow = light.atInfinity ? spawnRay(surface(sh), light.direction)
                                      : spawnRayTo(surface(sh), light.position);
@@ -213,17 +219,20 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Fn&& f
 Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
                        float weight, TraversalContext& ctx, TileCounters& counters) const {
   SurfaceShading sh = prepare(ray, hit, sd);
-  forEachLightTerm(sh, counters, [&](const LightTerm& term, std::size_t) {
-    if (term.needsShadowRay && scene_.occluded(term.shadow, ctx)) return;
-    sh.color += term.local;
-  });
+  LightTerm term;
+  forEachLightTerm(
+      sh, counters, [&](std::size_t) -> LightTerm& { return term; },
+      [&](const LightTerm& t, std::size_t) {
+        if (t.needsShadowRay && scene_.occluded(t.shadow, ctx)) return;
+        sh.color += t.local;
+      });
   return whitted_ ? addSecondary(sh, depth, weight, ctx, counters) : sh.color;
 }
 
-void Shader::collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms,
-                               std::size_t stride) const {
-  forEachLightTerm(sh, counters,
-                   [&](const LightTerm& term, std::size_t index) { terms[index * stride] = term; });
+void Shader::collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms) const {
+  forEachLightTerm(
+      sh, counters, [&](std::size_t index) -> LightTerm& { return terms[index]; },
+      [](const LightTerm&, std::size_t) {});
 }
 
 std::size_t Shader::lightCount() const {

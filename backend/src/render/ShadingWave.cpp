@@ -88,16 +88,15 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
     if (!level.hits[k].valid()) continue;
     level.sds[k] = scene_.surfaceAt(level.rays[k], level.hits[k]);
     level.shading[k].emplace(prepare(level.rays[k], level.hits[k], *level.sds[k]));
-    collectLightTerms(*level.shading[k], counters, scratch.terms.data() + k, n);
+    collectLightTerms(*level.shading[k], counters, scratch.terms.data() + k * lights);
   }
   // The shadow rays towards one light, in ray order, to the scene together.
   for (std::size_t j = 0; j < lights; ++j) {
-    LightTerm* terms = scratch.terms.data() + j * n;
     scratch.shadowRays.clear();
     scratch.shadowOwner.clear();
     for (std::size_t k = 0; k < n; ++k)
-      if (terms[k].needsShadowRay) {
-        scratch.shadowRays.push_back(terms[k].shadow);
+      if (const LightTerm& term = scratch.terms[k * lights + j]; term.needsShadowRay) {
+        scratch.shadowRays.push_back(term.shadow);
         scratch.shadowOwner.push_back(static_cast<std::uint32_t>(k));
       }
     if (scratch.shadowRays.empty()) continue;
@@ -105,14 +104,15 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
     scene_.occluded(std::span<const Ray>(scratch.shadowRays),
                     std::span<std::uint8_t>(scratch.blocked), ctx);
     for (std::size_t i = 0; i < scratch.shadowRays.size(); ++i)
-      if (scratch.blocked[i]) terms[scratch.shadowOwner[i]].contributes = false;
+      if (scratch.blocked[i])
+        scratch.terms[scratch.shadowOwner[i] * lights + j].contributes = false;
   }
   // The lights in order (the single-ray sum's order), then the rays leaving each hit.
   for (std::size_t k = 0; k < n; ++k) {
     if (!level.shading[k]) continue;
     SurfaceShading& sh = *level.shading[k];
     for (std::size_t j = 0; j < lights; ++j) {
-      const LightTerm& term = scratch.terms[j * n + k];
+      const LightTerm& term = scratch.terms[k * lights + j];
       if (term.contributes) sh.color += term.local;
     }
     level.secondary[k] = planSecondary(sh, static_cast<int>(depth), level.weight[k], counters);
