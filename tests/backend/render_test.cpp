@@ -378,6 +378,55 @@ BOOST_AUTO_TEST_CASE(offset_origins_never_self_intersect_tilted_planes) {
   BOOST_TEST(naiveSelfHits > 0u);
 }
 
+BOOST_AUTO_TEST_CASE(offset_origins_step_outwards_exactly_as_nextafter_does) {
+  // offsetRayOrigin as first written, with std::nextafter.
+  auto reference = [](const SurfacePoint& sp, const Vec3f& w) {
+    const Vec3f& n = sp.geometricNormal;
+    const float distance = sp.error * (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+    Vec3f offset = n * distance;
+    if (dot(w, n) < 0.0f) offset = -offset;
+    Vec3f o = sp.position + offset;
+    for (int i = 0; i < 3; ++i) {
+      if (offset[i] > 0.0f)
+        o[i] = std::nextafter(o[i], kInfinity);
+      else if (offset[i] < 0.0f)
+        o[i] = std::nextafter(o[i], -kInfinity);
+    }
+    return o;
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::uniform_int_distribution<int> exponent(-140, 127);
+  const float special[] = {0.0f,
+                           -0.0f,
+                           1e-45f,
+                           -1e-45f,
+                           1e-38f,
+                           -1e-38f,
+                           std::numeric_limits<float>::max(),
+                           -std::numeric_limits<float>::max(),
+                           kInfinity,
+                           -kInfinity,
+                           1.0f,
+                           -1.0f};
+  std::size_t differing = 0;
+  for (int i = 0; i < 20000; ++i) {
+    SurfacePoint sp;
+    auto coordinate = [&] {
+      return i % 4 == 0 ? special[static_cast<std::size_t>(rng() % std::size(special))]
+                        : std::ldexp(unit(rng), exponent(rng));
+    };
+    sp.position = {coordinate(), coordinate(), coordinate()};
+    sp.geometricNormal = normalize(Vec3f{unit(rng), unit(rng), unit(rng)});
+    if (i % 5 == 0) sp.geometricNormal = {0.0f, i % 10 == 0 ? 1.0f : -1.0f, 0.0f};
+    sp.error = i % 7 == 0 ? 0.0f : std::ldexp(std::abs(unit(rng)), exponent(rng) / 2);
+    const Vec3f w{unit(rng), unit(rng), unit(rng)};
+    const Vec3f got = offsetRayOrigin(sp, w), want = reference(sp, w);
+    differing += std::memcmp(&got, &want, sizeof got) != 0;
+  }
+  BOOST_TEST(differing == 0u);
+}
+
 BOOST_AUTO_TEST_CASE(shadow_rays_stop_short_of_a_light_on_a_surface) {
   // A point light exactly on a wall: the wall must not shadow the floor it lights.
   for (double translation : {0.0, 1e3, 1e5}) {

@@ -129,8 +129,8 @@ class Shader {
   /// and traced.
   template <typename Slot, typename Fn>
   void forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&& slot, Fn&& fn) const;
-  /// Fills terms[j] for every light j that may add to the colour at `sh` (the others are left
-  /// as they are), as forEachLightTerm finds them.
+  /// Fills terms[j] for every light j that may add to the colour at `sh`, as forEachLightTerm
+  /// finds them; the others only have their flags cleared.
   void collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms) const;
   /// Number of lights of the scene (point, directional and spot).
   std::size_t lightCount() const;

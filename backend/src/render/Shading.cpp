@@ -230,6 +230,10 @@ Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData&
 }
 
 void Shader::collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms) const {
+  for (std::size_t j = 0, n = lightCount(); j < n; ++j) {
+    terms[j].contributes = false;
+    terms[j].needsShadowRay = false;
+  }
   forEachLightTerm(
       sh, counters, [&](std::size_t index) -> LightTerm& { return terms[index]; },
       [](const LightTerm&, std::size_t) {});

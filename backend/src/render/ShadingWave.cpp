@@ -83,7 +83,9 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
 
   // Every hit's light terms, with their shadow rays.
   const std::size_t lights = lightCount();
-  scratch.terms.assign(lights * n, LightTerm{});
+  // Not cleared: collectLightTerms resets the flags of every hit's terms, and only hits' terms
+  // are read (clearing the whole table cost more than filling it).
+  scratch.terms.resize(lights * n);
   for (std::size_t k = 0; k < n; ++k) {
     if (!level.hits[k].valid()) continue;
     level.sds[k] = scene_.surfaceAt(level.rays[k], level.hits[k]);
@@ -95,7 +97,8 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
     scratch.shadowRays.clear();
     scratch.shadowOwner.clear();
     for (std::size_t k = 0; k < n; ++k)
-      if (const LightTerm& term = scratch.terms[k * lights + j]; term.needsShadowRay) {
+      if (const LightTerm& term = scratch.terms[k * lights + j];
+          level.shading[k] && term.needsShadowRay) {
         scratch.shadowRays.push_back(term.shadow);
         scratch.shadowOwner.push_back(static_cast<std::uint32_t>(k));
       }
