@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -376,6 +377,23 @@ BOOST_AUTO_TEST_CASE(offset_origins_never_self_intersect_tilted_planes) {
   // The check is sensitive: without the offset, rays do hit the surface they leave.
   BOOST_TEST_MESSAGE("self-hits without offset: " << naiveSelfHits);
   BOOST_TEST(naiveSelfHits > 0u);
+}
+
+BOOST_AUTO_TEST_CASE(phong_highlights_below_the_cutoff_are_exactly_zero) {
+  // The shader skips powf(r.v, shine) below exp2(-160 / shine) because powf returns exactly +0
+  // there; check that premise against this platform's powf, up to just below the cutoff.
+  std::size_t checked = 0, nonZero = 0;
+  for (float shine = 0.25f; shine < 2000.0f; shine *= 1.0173f) {
+    const float cutoff = std::exp2(-160.0f / shine);
+    float rv = std::nextafter(cutoff, 0.0f);
+    for (int i = 0; i < 64 && rv > 0.0f; ++i, rv *= 0.83f) {
+      const float p = std::pow(rv, shine);
+      nonZero += std::bit_cast<std::uint32_t>(p) != 0u;
+      ++checked;
+    }
+  }
+  BOOST_TEST(checked > 10000u);
+  BOOST_TEST(nonZero == 0u);
 }
 
 BOOST_AUTO_TEST_CASE(offset_origins_step_outwards_exactly_as_nextafter_does) {

@@ -54,6 +54,7 @@ struct SurfaceShading {
   Vec3f diffuse;                      ///< diffuse colour after texturing
   Vec3f color;                        ///< accumulated: ambient, then the unshadowed light terms
   std::optional<SurfacePoint> point;  ///< refined hit point, computed on first use
+  float highlightCutoff = 0.0f;       ///< r.v below which the Phong highlight is exactly 0
 };
 
 /// The secondary rays a hit spawns in Whitted mode, and how their colours are weighed.
@@ -158,6 +159,8 @@ class Shader {
   const Scene& scene_;
   RenderSettings settings_;
   bool whitted_;
+  std::vector<float> highlightCutoffs_;  ///< by material index (see Shading.cpp)
+  Material defaultMaterial_{};           ///< for hits without a material, as RenderScene gives
 };
 
 }  // namespace tg::detail

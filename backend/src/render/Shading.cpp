@@ -57,16 +57,24 @@ void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
   }
 }
 
+/// Below this r.v, rv^shine is below 2^-160, where powf returns exactly +0 (it returns 0 once
+/// its own shine * log2(rv), accurate to far better than the margin, reaches -150): the
+/// highlight then adds +0, which changes no colour, and the call can be skipped. 0 (never
+/// skip) for shine 0, where the power is 1.
+float highlightCutoff(float shine) {
+  return shine > 0.0f ? std::exp2(-160.0f / shine) : 0.0f;
+}
+
 /// Phong terms for unit normal n, unit view vector v and unit light vector l with nl = n.l > 0:
 /// diffuse max(0, n.l) + specular max(0, r.v)^shine. A highlight needs r.v > 0, so 0^0 (shine
-/// 0 facing away) counts as no highlight.
+/// 0 facing away) counts as no highlight; below `cutoff` (see highlightCutoff) it is +0.
 Vec3f phong(const Material& m, const Vec3f& diffuse, const Vec3f& n, const Vec3f& v, const Vec3f& l,
-            float nl) {
+            float nl, float cutoff) {
   Vec3f c = diffuse * nl;
   if (m.reflective()) {
     const Vec3f r = n * (2.0f * nl) - l;
     const float rv = dot(r, v);
-    if (rv > 0.0f) c += m.specular * std::pow(rv, m.shine);
+    if (rv > 0.0f && rv >= cutoff) c += m.specular * std::pow(rv, m.shine);
   }
   return c;
 }
@@ -105,7 +113,10 @@ Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
     : rs_(scene),
       scene_(*scene.scene),
       settings_(settings),
-      whitted_(settings.mode == RenderMode::Whitted) {}
+      whitted_(settings.mode == RenderMode::Whitted) {
+  highlightCutoffs_.reserve(scene.materials.size());
+  for (const Material& m : scene.materials) highlightCutoffs_.push_back(highlightCutoff(m.shine));
+}
 
 PixelSample Shader::shadePrimary(const Ray& ray, TraversalContext& ctx,
                                  TileCounters& counters) const {
@@ -155,7 +166,11 @@ bool Shader::mayTrace(int depth, float childWeight, TileCounters& counters) cons
 }
 
 SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const {
-  SurfaceShading sh{ray, hit, sd, rs_.material(hit.instanceId, hit.objectId, hit.primId)};
+  // RenderScene::material, keeping the index for the material's highlight cutoff.
+  const std::uint32_t index = rs_.materialIndex(hit.instanceId, hit.objectId, hit.primId);
+  const bool listed = index < rs_.materials.size();
+  SurfaceShading sh{ray, hit, sd, listed ? rs_.materials[index] : defaultMaterial_};
+  sh.highlightCutoff = listed ? highlightCutoffs_[index] : highlightCutoff(defaultMaterial_.shine);
   // Shade with the normals facing the incoming ray; the geometric normal alone decides the
   // side, because interpolated normals can disagree with it near silhouettes.
   sh.backFace = dot(sd.geometricNormal, ray.direction) > 0.0f;
@@ -192,8 +207,8 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&&
       if (whitted_) ++counters.saved.shadow;
       return;
     }
-    const Vec3f local =
-        light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction, nl);
+    const Vec3f local = light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction,
+                                            nl, sh.highlightCutoff);
     if (isBlack(local)) {
       if (whitted_) ++counters.saved.shadow;
       return;
