@@ -72,14 +72,14 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
     level.hits.resize(n);
     scene_.intersect(std::span<const Ray>(level.rays), std::span<Hit>(level.hits), ctx);
   }
-  // Sized once, never resized while shading refers into them.
-  level.sds.clear();
+  // Sized once, never resized while shading refers into them. Only `shading` is cleared: it
+  // tells the hits apart, and the other tables are written for every hit before being read.
   level.sds.resize(n);
   level.shading.clear();
   level.shading.resize(n);
-  level.secondary.assign(n, SecondaryRays{});
-  level.reflectionChild.assign(n, 0);
-  level.refractionChild.assign(n, 0);
+  level.secondary.resize(n);
+  level.reflectionChild.resize(n);
+  level.refractionChild.resize(n);
 
   // Every hit's light terms, with their shadow rays.
   const std::size_t lights = lightCount();
