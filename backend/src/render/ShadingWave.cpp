@@ -121,14 +121,15 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
     level.secondary[k] = planSecondary(sh, static_cast<int>(depth), level.weight[k], counters);
   }
   // All reflection rays, then all refraction rays: neighbours of one kind stay together.
+  // `secondary` holds this level's plans for hits only (misses keep an earlier tile's).
   for (std::size_t k = 0; k < n; ++k)
-    if (level.secondary[k].reflects) {
+    if (level.shading[k] && level.secondary[k].reflects) {
       level.reflectionChild[k] = static_cast<std::uint32_t>(next.rays.size());
       next.rays.push_back(level.secondary[k].reflection);
       next.weight.push_back(level.secondary[k].reflectionPathWeight);
     }
   for (std::size_t k = 0; k < n; ++k)
-    if (level.secondary[k].refracts) {
+    if (level.shading[k] && level.secondary[k].refracts) {
       level.refractionChild[k] = static_cast<std::uint32_t>(next.rays.size());
       next.rays.push_back(level.secondary[k].refraction);
       next.weight.push_back(level.secondary[k].refractionPathWeight);
