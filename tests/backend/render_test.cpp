@@ -8,11 +8,13 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <string>
@@ -377,6 +379,72 @@ BOOST_AUTO_TEST_CASE(offset_origins_never_self_intersect_tilted_planes) {
   BOOST_TEST(naiveSelfHits > 0u);
 }
 
+BOOST_AUTO_TEST_CASE(phong_highlights_below_the_cutoff_are_exactly_zero) {
+  // The shader skips powf(r.v, shine) below exp2(-160 / shine) because powf returns exactly +0
+  // there; check that premise against this platform's powf, up to just below the cutoff.
+  std::size_t checked = 0, nonZero = 0;
+  for (float shine = 0.25f; shine < 2000.0f; shine *= 1.0173f) {
+    const float cutoff = std::exp2(-160.0f / shine);
+    float rv = std::nextafter(cutoff, 0.0f);
+    for (int i = 0; i < 64 && rv > 0.0f; ++i, rv *= 0.83f) {
+      const float p = std::pow(rv, shine);
+      nonZero += std::bit_cast<std::uint32_t>(p) != 0u;
+      ++checked;
+    }
+  }
+  BOOST_TEST(checked > 10000u);
+  BOOST_TEST(nonZero == 0u);
+}
+
+BOOST_AUTO_TEST_CASE(offset_origins_step_outwards_exactly_as_nextafter_does) {
+  // offsetRayOrigin as first written, with std::nextafter.
+  auto reference = [](const SurfacePoint& sp, const Vec3f& w) {
+    const Vec3f& n = sp.geometricNormal;
+    const float distance = sp.error * (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+    Vec3f offset = n * distance;
+    if (dot(w, n) < 0.0f) offset = -offset;
+    Vec3f o = sp.position + offset;
+    for (int i = 0; i < 3; ++i) {
+      if (offset[i] > 0.0f)
+        o[i] = std::nextafter(o[i], kInfinity);
+      else if (offset[i] < 0.0f)
+        o[i] = std::nextafter(o[i], -kInfinity);
+    }
+    return o;
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::uniform_int_distribution<int> exponent(-140, 127);
+  const float special[] = {0.0f,
+                           -0.0f,
+                           1e-45f,
+                           -1e-45f,
+                           1e-38f,
+                           -1e-38f,
+                           std::numeric_limits<float>::max(),
+                           -std::numeric_limits<float>::max(),
+                           kInfinity,
+                           -kInfinity,
+                           1.0f,
+                           -1.0f};
+  std::size_t differing = 0;
+  for (int i = 0; i < 20000; ++i) {
+    SurfacePoint sp;
+    auto coordinate = [&] {
+      return i % 4 == 0 ? special[static_cast<std::size_t>(rng() % std::size(special))]
+                        : std::ldexp(unit(rng), exponent(rng));
+    };
+    sp.position = {coordinate(), coordinate(), coordinate()};
+    sp.geometricNormal = normalize(Vec3f{unit(rng), unit(rng), unit(rng)});
+    if (i % 5 == 0) sp.geometricNormal = {0.0f, i % 10 == 0 ? 1.0f : -1.0f, 0.0f};
+    sp.error = i % 7 == 0 ? 0.0f : std::ldexp(std::abs(unit(rng)), exponent(rng) / 2);
+    const Vec3f w{unit(rng), unit(rng), unit(rng)};
+    const Vec3f got = offsetRayOrigin(sp, w), want = reference(sp, w);
+    differing += std::memcmp(&got, &want, sizeof got) != 0;
+  }
+  BOOST_TEST(differing == 0u);
+}
+
 BOOST_AUTO_TEST_CASE(shadow_rays_stop_short_of_a_light_on_a_surface) {
   // A point light exactly on a wall: the wall must not shadow the floor it lights.
   for (double translation : {0.0, 1e3, 1e5}) {
@@ -669,9 +737,15 @@ BOOST_AUTO_TEST_CASE(threads_tiles_and_packets_give_bit_identical_images) {
         stats.push_back(st);
       });
     }
-    // Different tiling must not matter either: pixels are independent.
+    // Different tiling must not matter either: pixels are independent. Small tiles on one
+    // thread share per-thread scratch memory from tile to tile; nothing may leak between them.
     s.tileSize = 7;
-    frames.push_back(render(ts, cam, s));
+    tbb::task_arena one(1);
+    one.execute([&] {
+      RenderStats st;
+      frames.push_back(render(ts, cam, s, &st));
+      stats.push_back(st);
+    });
     // Nor packets (odd tiles leave partial 4 x 2 blocks) with any SIMD kernel, or none.
     const SimdIsa saved = activeSimdIsa();
     for (SimdIsa isa : supportedSimdIsas()) {
@@ -680,7 +754,10 @@ BOOST_AUTO_TEST_CASE(threads_tiles_and_packets_give_bit_identical_images) {
     }
     setSimdIsa(saved);
     s.packets = false;
-    frames.push_back(render(ts, cam, s));
+    RenderStats single;
+    frames.push_back(render(ts, cam, s, &single));
+    // Whitted packets trace a tile depth by depth; the rays counted must be the same.
+    stats.push_back(single);
     for (std::size_t i = 1; i < frames.size(); ++i) {
       BOOST_TEST(frames[i].beauty.bitwiseEqual(frames[0].beauty), renderModeName(mode) << " " << i);
       BOOST_TEST(frames[i].depth.bitwiseEqual(frames[0].depth));
@@ -871,6 +948,72 @@ BOOST_AUTO_TEST_CASE(ppm_textures_load_and_sample_with_repeat) {
   BOOST_CHECK_EXCEPTION(Texture::load(path.string()), Error, namesFile);
   std::filesystem::remove(path);
   BOOST_CHECK_EXCEPTION(Texture::load(path.string()), Error, namesFile);  // missing
+}
+
+namespace {
+
+/// Texture::sample as first written: fmod of the scaled coordinate, then every texel index
+/// wrapped with an integer remainder. The faster sampler must return exactly this.
+Vec3f referenceSample(const Texture& tex, const Vec2f& uv, TextureFilter filter) {
+  const double w = tex.width(), h = tex.height();
+  const double x = std::fmod(static_cast<double>(uv.u) * w, w);
+  const double y = std::fmod(static_cast<double>(uv.v) * h, h);
+  auto texel = [&](long long i, long long j) {
+    const long long n = tex.width(), m = tex.height();
+    const long long a = ((i % n) + n) % n, b = ((j % m) + m) % m;
+    return tex.image().rgb(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
+  };
+  if (!std::isfinite(x) || !std::isfinite(y)) return texel(0, 0);
+  if (filter == TextureFilter::Nearest)
+    return texel(static_cast<long long>(std::floor(x)), static_cast<long long>(std::floor(y)));
+  const double fx = x - 0.5, fy = y - 0.5;
+  const double x0 = std::floor(fx), y0 = std::floor(fy);
+  const float ax = static_cast<float>(fx - x0), ay = static_cast<float>(fy - y0);
+  const long long ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
+  const Vec3f top = texel(ix, iy) * (1.0f - ax) + texel(ix + 1, iy) * ax;
+  const Vec3f bottom = texel(ix, iy + 1) * (1.0f - ax) + texel(ix + 1, iy + 1) * ax;
+  return top * (1.0f - ay) + bottom * ay;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(texture_sampling_is_bit_identical_to_the_fmod_reference) {
+  std::mt19937 rng(7);
+  // Texel borders and centres of both axes, one ulp either side, wrapped copies, huge and
+  // non-finite coordinates, and random ones.
+  std::vector<float> coords = {1e-30f, -1e-30f, 0.9999999f, -0.9999999f, 1e6f, -1e7f, 12345.678f};
+  coords.push_back(std::numeric_limits<float>::infinity());
+  coords.push_back(std::numeric_limits<float>::quiet_NaN());
+  for (int i = -12; i <= 12; ++i)
+    for (const float d : {0.0f, 0.5f})
+      for (const float n : {5.0f, 3.0f}) {
+        const float c = (static_cast<float>(i) + d) / n;
+        coords.insert(coords.end(), {c, std::nextafter(c, -10.0f), std::nextafter(c, 10.0f)});
+      }
+  coords.push_back(-0.0f);
+  std::uniform_real_distribution<float> any(-4.0f, 4.0f);
+  for (int i = 0; i < 200; ++i) coords.push_back(any(rng));
+
+  // Random floats (more than 256 values: sampled from the float image), and 8-bit levels as a
+  // file gives them, with a negative zero (sampled through the palette of codes).
+  Image floats(5, 3, 3), levels(5, 3, 3);
+  std::uniform_real_distribution<float> value(0.0f, 1.0f);
+  std::uniform_int_distribution<int> level(0, 255);
+  for (float& v : floats.data()) v = value(rng);
+  for (float& v : levels.data()) v = static_cast<float>(level(rng)) / 255.0f;
+  levels.data()[4] = -0.0f;
+  for (const Texture& tex : {Texture(floats, "floats"), Texture(levels, "levels")}) {
+    std::size_t checked = 0, differing = 0;
+    for (const float u : coords)
+      for (const float v : coords)
+        for (const TextureFilter f : {TextureFilter::Nearest, TextureFilter::Bilinear}) {
+          const Vec3f got = tex.sample({u, v}, f), want = referenceSample(tex, {u, v}, f);
+          differing += std::memcmp(&got, &want, sizeof got) != 0;
+          ++checked;
+        }
+    BOOST_TEST(checked > 100000u);
+    BOOST_TEST(differing == 0u, tex.name());
+  }
 }
 
 BOOST_AUTO_TEST_CASE(textures_modulate_or_replace_the_diffuse_colour) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -76,11 +77,22 @@ void storeSample(const detail::PixelSample& s, bool aovs, std::uint32_t x, std::
   frame.primId.at(x, y) = s.primId;
 }
 
+/// Per-thread memory of renderTile, reused from tile to tile.
+struct TileScratch {
+  std::vector<Ray> rays;
+  std::vector<Hit> hits;
+  std::vector<std::uint32_t> px, py;
+  std::vector<detail::PixelSample> samples;
+  detail::WaveScratch wave;
+};
+
 /// Traces and shades every pixel of `rect`, writing only those pixels of `frame`. With packets,
-/// primary rays go to the scene in 4 x 2 pixel blocks (neighbouring rays, coherent), and so do
-/// the block's shadow rays towards each light; each pixel comes out as from single rays.
+/// primary rays go to the scene in 4 x 2 pixel blocks (neighbouring rays, coherent); Whitted
+/// mode then shades the whole tile depth by depth, so that its shadow and secondary rays go as
+/// packets too. Each pixel comes out as from single rays.
 TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Camera& camera,
-                      const RenderSettings& settings, const TileRect& rect, Frame& frame) {
+                      const RenderSettings& settings, const TileRect& rect, TileScratch& scratch,
+                      Frame& frame) {
   TileResult result;
   TraversalContext ctx;
   if (!settings.packets) {
@@ -89,27 +101,38 @@ TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Ca
         storeSample(shader.shadePrimary(camera.primaryRay(x, y), ctx, result.counters),
                     settings.aovs, x, y, frame);
   } else {
-    Ray rays[kRayPacketSize];
-    Hit hits[kRayPacketSize];
-    detail::PixelSample samples[kRayPacketSize];
-    detail::BlockScratch scratch;
-    std::uint32_t px[kRayPacketSize], py[kRayPacketSize];
+    const std::size_t area = static_cast<std::size_t>(rect.x1 - rect.x0) * (rect.y1 - rect.y0);
+    scratch.rays.resize(area);
+    scratch.hits.resize(area);
+    scratch.px.resize(area);
+    scratch.py.resize(area);
+    scratch.samples.resize(area);
+    // Pixels in block order: the rays of one 4 x 2 block are consecutive.
+    std::size_t count = 0;
     for (std::uint32_t y0 = rect.y0; y0 < rect.y1; y0 += 2) {
       for (std::uint32_t x0 = rect.x0; x0 < rect.x1; x0 += 4) {
-        std::size_t n = 0;
+        const std::size_t first = count;
         for (std::uint32_t lane = 0; lane < kRayPacketSize; ++lane) {
           const std::uint32_t x = x0 + lane % 4, y = y0 + lane / 4;
           if (x >= rect.x1 || y >= rect.y1) continue;
-          px[n] = x;
-          py[n] = y;
-          rays[n++] = camera.primaryRay(x, y);
+          scratch.px[count] = x;
+          scratch.py[count] = y;
+          scratch.rays[count++] = camera.primaryRay(x, y);
         }
-        scene.intersect(std::span<const Ray>(rays, n), std::span<Hit>(hits, n), ctx);
-        shader.shadePrimaryBlock(rays, hits, n, ctx, result.counters, scratch, samples);
-        for (std::size_t k = 0; k < n; ++k)
-          storeSample(samples[k], settings.aovs, px[k], py[k], frame);
+        scene.intersect(std::span<const Ray>(scratch.rays.data() + first, count - first),
+                        std::span<Hit>(scratch.hits.data() + first, count - first), ctx);
       }
     }
+    if (shader.shadesByWave()) {
+      shader.shadeWhittedTile(scratch.rays.data(), scratch.hits.data(), count, ctx, result.counters,
+                              scratch.wave, scratch.samples.data());
+    } else {
+      for (std::size_t k = 0; k < count; ++k)
+        scratch.samples[k] =
+            shader.shadePrimaryHit(scratch.rays[k], scratch.hits[k], ctx, result.counters);
+    }
+    for (std::size_t k = 0; k < count; ++k)
+      storeSample(scratch.samples[k], settings.aovs, scratch.px[k], scratch.py[k], frame);
   }
   result.triangleTests = ctx.triangleTests;
   result.nodeVisits = ctx.nodeVisits;
@@ -171,12 +194,13 @@ RenderStats Renderer::render(const RenderScene& scene, const Camera& camera, Fra
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tileCount, 1),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       const FlushDenormalsScope flush(settings_.flushDenormals);
+                      TileScratch scratch;
                       for (std::size_t tile = range.begin(); tile != range.end(); ++tile) {
                         const std::uint32_t x0 = static_cast<std::uint32_t>(tile % tilesX) * ts;
                         const std::uint32_t y0 = static_cast<std::uint32_t>(tile / tilesX) * ts;
                         const TileRect rect{x0, y0, std::min(x0 + ts, w), std::min(y0 + ts, h)};
-                        results[tile] =
-                            renderTile(shader, *scene.scene, camera, settings_, rect, frame);
+                        results[tile] = renderTile(shader, *scene.scene, camera, settings_, rect,
+                                                   scratch, frame);
                       }
                     });
   const auto end = std::chrono::steady_clock::now();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <vector>
 
@@ -53,11 +54,47 @@ struct SurfaceShading {
   Vec3f diffuse;                      ///< diffuse colour after texturing
   Vec3f color;                        ///< accumulated: ambient, then the unshadowed light terms
   std::optional<SurfacePoint> point;  ///< refined hit point, computed on first use
+  float highlightCutoff = 0.0f;       ///< r.v below which the Phong highlight is exactly 0
 };
 
-/// Per-tile scratch memory of shadePrimaryBlock, reused from block to block.
-struct BlockScratch {
-  std::vector<LightTerm> terms;  ///< [light][lane]
+/// The secondary rays a hit spawns in Whitted mode, and how their colours are weighed.
+struct SecondaryRays {
+  Vec3f reflectWeight;         ///< multiplies the reflected colour
+  float refractWeight = 0.0f;  ///< multiplies the refracted colour
+  Ray reflection, refraction;  ///< valid when reflects / refracts
+  float reflectionPathWeight = 0.0f, refractionPathWeight = 0.0f;  ///< for the ray-weight cutoff
+  bool reflects = false, refracts = false;
+};
+
+/// `local` plus the reflected and refracted colours weighed as `s` says, added in one fixed
+/// order, so that the recursive and the level-by-level paths give the same bits.
+inline Vec3f combineSecondary(const Vec3f& local, const SecondaryRays& s, const Vec3f& reflected,
+                              const Vec3f& refracted) {
+  Vec3f color = local;
+  if (s.reflects) color += s.reflectWeight * reflected;
+  if (s.refracts) color += refracted * s.refractWeight;
+  return color;
+}
+
+/// Per-tile scratch memory of shadeWhittedTile, reused from tile to tile (see ShadingWave.cpp).
+struct WaveScratch {
+  /// The rays of one bounce depth of a tile, and how each came about.
+  struct Level {
+    std::vector<Ray> rays;
+    std::vector<Hit> hits;
+    std::vector<float> weight;  ///< path weight of the ray
+    std::vector<std::optional<Scene::SurfaceData>> sds;
+    std::vector<std::optional<SurfaceShading>> shading;  ///< refers to rays, hits and sds
+    std::vector<SecondaryRays> secondary;
+    std::vector<std::uint32_t> reflectionChild, refractionChild;  ///< into the next level
+    std::vector<Vec3f> color;  ///< the light arriving along each ray
+  };
+  /// Levels by depth; a deque, so that adding one never moves the others.
+  std::deque<Level> levels;
+  std::vector<LightTerm> terms;  ///< [ray][light] of the level being shaded
+  std::vector<Ray> shadowRays;
+  std::vector<std::uint32_t> shadowOwner;  ///< the ray of the level each shadow ray serves
+  std::vector<std::uint8_t> blocked;
 };
 
 /// Traces and shades rays for one mode.
@@ -71,11 +108,14 @@ class Shader {
   /// in a packet.
   PixelSample shadePrimaryHit(const Ray& ray, const Hit& hit, TraversalContext& ctx,
                               TileCounters& counters) const;
-  /// Shades the primary rays of up to kRayPacketSize neighbouring pixels whose hits were traced
-  /// together: in Whitted mode the shadow rays towards each light go to the scene as one
-  /// packet. out[k] equals shadePrimaryHit(rays[k], hits[k]) bit for bit.
-  void shadePrimaryBlock(const Ray* rays, const Hit* hits, std::size_t n, TraversalContext& ctx,
-                         TileCounters& counters, BlockScratch& scratch, PixelSample* out) const;
+  /// True when shadeWhittedTile applies (Whitted mode); other modes shade pixel by pixel.
+  bool shadesByWave() const { return whitted_; }
+  /// Shades the `n` primary rays of a tile, whose hits were traced already, bounce depth by
+  /// bounce depth: the rays of one depth (reflection, refraction, and the shadow rays towards
+  /// each light) go to the scene together as packets of neighbouring rays. out[k] equals
+  /// shadePrimaryHit(rays[k], hits[k]) bit for bit.
+  void shadeWhittedTile(const Ray* rays, const Hit* hits, std::size_t n, TraversalContext& ctx,
+                        TileCounters& counters, WaveScratch& scratch, PixelSample* out) const;
 
  private:
   /// The light arriving along `ray` (Whitted/OpenGL), `depth` bounces after the primary hit.
@@ -85,13 +125,27 @@ class Shader {
   SurfaceShading prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const;
   /// The refined hit point of `sh`, computed once.
   const SurfacePoint& surface(SurfaceShading& sh) const;
-  /// Calls fn(LightTerm, lightIndex) for every light that may add to the colour at `sh`, in
-  /// light order, counting the shadow rays saved and traced.
-  template <typename Fn>
-  void forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Fn&& fn) const;
+  /// For every light that may add to the colour at `sh`, in light order: fills the term
+  /// slot(lightIndex) returns, then calls fn(term, lightIndex); counts the shadow rays saved
+  /// and traced.
+  template <typename Slot, typename Fn>
+  void forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&& slot, Fn&& fn) const;
+  /// Fills terms[j] for every light j that may add to the colour at `sh`, as forEachLightTerm
+  /// finds them; the others only have their flags cleared.
+  void collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms) const;
+  /// Number of lights of the scene (point, directional and spot).
+  std::size_t lightCount() const;
   /// sh.color plus the reflected and refracted light (Whitted mode).
   Vec3f addSecondary(SurfaceShading& sh, int depth, float weight, TraversalContext& ctx,
                      TileCounters& counters) const;
+  /// The reflection and refraction rays leaving `sh` (a hit `depth` bounces deep whose path
+  /// has weight `weight`), counting those traced and those not.
+  SecondaryRays planSecondary(SurfaceShading& sh, int depth, float weight,
+                              TileCounters& counters) const;
+  /// Shades level `depth` of the scratch: traces its rays (depth >= 1), gathers its shadow
+  /// rays by light, and plans the next level's rays.
+  void shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounters& counters,
+                      WaveScratch& scratch) const;
   /// Phong shading plus, in Whitted mode, shadows, reflection and refraction at `hit`.
   Vec3f shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
                  float weight, TraversalContext& ctx, TileCounters& counters) const;
@@ -105,6 +159,8 @@ class Shader {
   const Scene& scene_;
   RenderSettings settings_;
   bool whitted_;
+  std::vector<float> highlightCutoffs_;  ///< by material index (see Shading.cpp)
+  Material defaultMaterial_{};           ///< for hits without a material, as RenderScene gives
 };
 
 }  // namespace tg::detail

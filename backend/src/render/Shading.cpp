@@ -22,7 +22,7 @@ bool isBlack(const Vec3f& c) {
 }
 
 /// Calls fn(LightSample, index) for every light of the scene, as seen from point p; `index`
-/// numbers the lights point, directional, then spot (lightCount of them in all).
+/// numbers the lights point, directional, then spot (Shader::lightCount of them in all).
 template <typename Fn>
 void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
   std::size_t index = 0;
@@ -57,20 +57,24 @@ void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
   }
 }
 
-std::size_t lightCount(const RenderScene& rs) {
-  return rs.pointLights.size() + rs.directionalLights.size() + rs.spotLights.size();
+/// Below this r.v, rv^shine is below 2^-160, where powf returns exactly +0 (it returns 0 once
+/// its own shine * log2(rv), accurate to far better than the margin, reaches -150): the
+/// highlight then adds +0, which changes no colour, and the call can be skipped. 0 (never
+/// skip) for shine 0, where the power is 1.
+float highlightCutoff(float shine) {
+  return shine > 0.0f ? std::exp2(-160.0f / shine) : 0.0f;
 }
 
 /// Phong terms for unit normal n, unit view vector v and unit light vector l with nl = n.l > 0:
 /// diffuse max(0, n.l) + specular max(0, r.v)^shine. A highlight needs r.v > 0, so 0^0 (shine
-/// 0 facing away) counts as no highlight.
+/// 0 facing away) counts as no highlight; below `cutoff` (see highlightCutoff) it is +0.
 Vec3f phong(const Material& m, const Vec3f& diffuse, const Vec3f& n, const Vec3f& v, const Vec3f& l,
-            float nl) {
+            float nl, float cutoff) {
   Vec3f c = diffuse * nl;
   if (m.reflective()) {
     const Vec3f r = n * (2.0f * nl) - l;
     const float rv = dot(r, v);
-    if (rv > 0.0f) c += m.specular * std::pow(rv, m.shine);
+    if (rv > 0.0f && rv >= cutoff) c += m.specular * std::pow(rv, m.shine);
   }
   return c;
 }
@@ -109,7 +113,10 @@ Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
     : rs_(scene),
       scene_(*scene.scene),
       settings_(settings),
-      whitted_(settings.mode == RenderMode::Whitted) {}
+      whitted_(settings.mode == RenderMode::Whitted) {
+  highlightCutoffs_.reserve(scene.materials.size());
+  for (const Material& m : scene.materials) highlightCutoffs_.push_back(highlightCutoff(m.shine));
+}
 
 PixelSample Shader::shadePrimary(const Ray& ray, TraversalContext& ctx,
                                  TileCounters& counters) const {
@@ -159,7 +166,11 @@ bool Shader::mayTrace(int depth, float childWeight, TileCounters& counters) cons
 }
 
 SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const {
-  SurfaceShading sh{ray, hit, sd, rs_.material(hit.instanceId, hit.objectId, hit.primId)};
+  // RenderScene::material, keeping the index for the material's highlight cutoff.
+  const std::uint32_t index = rs_.materialIndex(hit.instanceId, hit.objectId, hit.primId);
+  const bool listed = index < rs_.materials.size();
+  SurfaceShading sh{ray, hit, sd, listed ? rs_.materials[index] : defaultMaterial_};
+  sh.highlightCutoff = listed ? highlightCutoffs_[index] : highlightCutoff(defaultMaterial_.shine);
   // Shade with the normals facing the incoming ray; the geometric normal alone decides the
   // side, because interpolated normals can disagree with it near silhouettes.
   sh.backFace = dot(sd.geometricNormal, ray.direction) > 0.0f;
@@ -185,8 +196,9 @@ const SurfacePoint& Shader::surface(SurfaceShading& sh) const {
   return *sh.point;
 }
 
-template <typename Fn>
-void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Fn&& fn) const {
+template <typename Slot, typename Fn>
+void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&& slot,
+                              Fn&& fn) const {
   const bool lit = sh.material.lit();
   forEachLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t index) {
     const float nl = dot(sh.ns, light.direction);
@@ -195,13 +207,18 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Fn&& f
       if (whitted_) ++counters.saved.shadow;
       return;
     }
-    LightTerm term;
-    term.local = light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction, nl);
-    if (isBlack(term.local)) {
+    const Vec3f local = light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction,
+                                            nl, sh.highlightCutoff);
+    if (isBlack(local)) {
       if (whitted_) ++counters.saved.shadow;
       return;
     }
+    // Filled in place: a term built aside and then copied cost more than the Phong terms
+    // (partial stores read back as one wide load stall the copy).
+    LightTerm& term = slot(index);
+    term.local = local;
     term.contributes = true;
+    term.needsShadowRay = false;
     if (whitted_) {
       term.shadow = light.atInfinity ? spawnRay(surface(sh), light.direction)
                                      : spawnRayTo(surface(sh), light.position);
@@ -217,87 +234,50 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Fn&& f
 Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
                        float weight, TraversalContext& ctx, TileCounters& counters) const {
   SurfaceShading sh = prepare(ray, hit, sd);
-  forEachLightTerm(sh, counters, [&](const LightTerm& term, std::size_t) {
-    if (term.needsShadowRay && scene_.occluded(term.shadow, ctx)) return;
-    sh.color += term.local;
-  });
+  LightTerm term;
+  forEachLightTerm(
+      sh, counters, [&](std::size_t) -> LightTerm& { return term; },
+      [&](const LightTerm& t, std::size_t) {
+        if (t.needsShadowRay && scene_.occluded(t.shadow, ctx)) return;
+        sh.color += t.local;
+      });
   return whitted_ ? addSecondary(sh, depth, weight, ctx, counters) : sh.color;
 }
 
-void Shader::shadePrimaryBlock(const Ray* rays, const Hit* hits, std::size_t n,
-                               TraversalContext& ctx, TileCounters& counters, BlockScratch& scratch,
-                               PixelSample* out) const {
-  const bool debugMode = settings_.mode == RenderMode::Normals ||
-                         settings_.mode == RenderMode::Classes ||
-                         settings_.mode == RenderMode::Instances;
-  if (!whitted_ || debugMode) {
-    // No shadow rays to gather: shade pixel by pixel.
-    for (std::size_t k = 0; k < n; ++k) out[k] = shadePrimaryHit(rays[k], hits[k], ctx, counters);
-    return;
+void Shader::collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms) const {
+  for (std::size_t j = 0, n = lightCount(); j < n; ++j) {
+    terms[j].contributes = false;
+    terms[j].needsShadowRay = false;
   }
-  // Phase 1: per pixel, the surface and every light's term with its shadow ray.
-  const std::size_t lights = lightCount(rs_);
-  scratch.terms.assign(lights * kRayPacketSize, LightTerm{});
-  std::optional<Scene::SurfaceData> sds[kRayPacketSize];
-  std::optional<SurfaceShading> shading[kRayPacketSize];
-  for (std::size_t k = 0; k < n; ++k) {
-    PixelSample& s = out[k];
-    s = PixelSample{};
-    ++counters.traced.primary;
-    if (!hits[k].valid()) {
-      s.color = rs_.background;
-      continue;
-    }
-    s.depth = hits[k].t;
-    s.instanceId = hits[k].instanceId;
-    s.primId = hits[k].primId;
-    sds[k] = scene_.surfaceAt(rays[k], hits[k]);
-    s.normal = sds[k]->shadingNormal;
-    shading[k].emplace(prepare(rays[k], hits[k], *sds[k]));
-    forEachLightTerm(*shading[k], counters, [&](const LightTerm& term, std::size_t index) {
-      scratch.terms[index * kRayPacketSize + k] = term;
-    });
-  }
-  // Phase 2: one packet of shadow rays per light (neighbouring pixels towards one light).
-  Ray shadowRays[kRayPacketSize];
-  std::uint8_t blocked[kRayPacketSize];
-  std::size_t lane[kRayPacketSize];
-  for (std::size_t j = 0; j < lights; ++j) {
-    LightTerm* terms = scratch.terms.data() + j * kRayPacketSize;
-    std::size_t m = 0;
-    for (std::size_t k = 0; k < n; ++k)
-      if (terms[k].needsShadowRay) {
-        lane[m] = k;
-        shadowRays[m++] = terms[k].shadow;
-      }
-    if (m == 0) continue;
-    scene_.occluded(std::span<const Ray>(shadowRays, m), std::span<std::uint8_t>(blocked, m), ctx);
-    for (std::size_t i = 0; i < m; ++i)
-      if (blocked[i]) terms[lane[i]].contributes = false;
-  }
-  // Phase 3: per pixel, the lights in order (the single-ray sum's order), then the secondary
-  // rays one by one.
-  for (std::size_t k = 0; k < n; ++k) {
-    if (!shading[k]) continue;
-    SurfaceShading& sh = *shading[k];
-    for (std::size_t j = 0; j < lights; ++j) {
-      const LightTerm& term = scratch.terms[j * kRayPacketSize + k];
-      if (term.contributes) sh.color += term.local;
-    }
-    out[k].color = addSecondary(sh, 0, 1.0f, ctx, counters);
-  }
+  forEachLightTerm(
+      sh, counters, [&](std::size_t index) -> LightTerm& { return terms[index]; },
+      [](const LightTerm&, std::size_t) {});
+}
+
+std::size_t Shader::lightCount() const {
+  return rs_.pointLights.size() + rs_.directionalLights.size() + rs_.spotLights.size();
 }
 
 Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, TraversalContext& ctx,
                            TileCounters& counters) const {
+  const SecondaryRays s = planSecondary(sh, depth, weight, counters);
+  const Vec3f reflected =
+      s.reflects ? trace(s.reflection, depth + 1, s.reflectionPathWeight, ctx, counters) : Vec3f{};
+  const Vec3f refracted =
+      s.refracts ? trace(s.refraction, depth + 1, s.refractionPathWeight, ctx, counters) : Vec3f{};
+  return combineSecondary(sh.color, s, reflected, refracted);
+}
+
+SecondaryRays Shader::planSecondary(SurfaceShading& sh, int depth, float weight,
+                                    TileCounters& counters) const {
   const Material& m = sh.material;
   const Vec3f& dir = sh.dir;
   const Vec3f& ns = sh.ns;
   const Vec3f& ng = sh.ng;
   const bool backFace = sh.backFace;
-  Vec3f color = sh.color;
-  // Secondary rays. Glass splits its transmittance T between reflection and refraction by
-  // Fresnel; the mirror part (specular) adds to the reflection, traced as one ray.
+  SecondaryRays out;
+  // Glass splits its transmittance T between reflection and refraction by Fresnel; the mirror
+  // part (specular) adds to the reflection, traced as one ray.
   Vec3f reflectWeight = m.specular;
   float refractWeight = 0.0f;
   Vec3f refractDir;
@@ -321,6 +301,8 @@ Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, Traversa
   } else {
     ++counters.saved.refraction;
   }
+  out.reflectWeight = reflectWeight;
+  out.refractWeight = refractWeight;
 
   if (!isBlack(reflectWeight)) {
     const float childWeight = weight * maxComponent(reflectWeight);
@@ -328,8 +310,9 @@ Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, Traversa
       Vec3f r = reflect(dir, ns);
       if (dot(r, ng) <= 0.0f) r = reflect(dir, ng);  // same reason as for refraction
       ++counters.traced.reflection;
-      color +=
-          reflectWeight * trace(spawnRay(surface(sh), r), depth + 1, childWeight, ctx, counters);
+      out.reflects = true;
+      out.reflection = spawnRay(surface(sh), r);
+      out.reflectionPathWeight = childWeight;
     }
   } else {
     ++counters.saved.reflection;
@@ -339,11 +322,12 @@ Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, Traversa
     const float childWeight = weight * refractWeight;
     if (mayTrace(depth, childWeight, counters)) {
       ++counters.traced.refraction;
-      color += trace(spawnRay(surface(sh), refractDir), depth + 1, childWeight, ctx, counters) *
-               refractWeight;
+      out.refracts = true;
+      out.refraction = spawnRay(surface(sh), refractDir);
+      out.refractionPathWeight = childWeight;
     }
   }
-  return color;
+  return out;
 }
 
 Vec3f Shader::debugColor(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const {

@@ -2,6 +2,7 @@
 
 #include <stb_image.h>
 
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -136,8 +137,17 @@ Image loadWithStb(const std::string& path, ColorEncoding encoding) {
 
 /// Wraps i into [0, n) for any integer i (GL_REPEAT).
 std::uint32_t wrap(long long i, std::uint32_t n) {
+  // Nearly every index sample() asks for lies in the image already; the 64-bit division is
+  // then skipped (it cost more than the rest of a bilinear lookup).
+  if (i >= 0 && i < static_cast<long long>(n)) return static_cast<std::uint32_t>(i);
   const long long m = i % static_cast<long long>(n);
   return static_cast<std::uint32_t>(m < 0 ? m + n : m);
+}
+
+/// std::fmod(x, n) for n > 0. Within (-n, n), fmod returns x itself (signed zero included),
+/// so the common case needs no library call; NaN and infinities still go through fmod.
+double wrapCoordinate(double x, double n) {
+  return std::abs(x) < n ? x : std::fmod(x, n);
 }
 
 }  // namespace
@@ -145,6 +155,41 @@ std::uint32_t wrap(long long i, std::uint32_t n) {
 Texture::Texture(Image rgb, std::string name) : image_(std::move(rgb)), name_(std::move(name)) {
   if (image_.channels() != 3 || image_.empty())
     throw Error("Texture " + name_ + ": needs a non-empty 3-channel image");
+  buildPalette();
+}
+
+void Texture::buildPalette() {
+  // Distinct values by bit pattern (so -0 and NaN payloads keep theirs), in an open-addressing
+  // table with room for 256 of them.
+  constexpr std::uint32_t kSlots = 1024;
+  std::vector<std::uint32_t> keys(kSlots);
+  std::vector<std::int16_t> slotCode(kSlots, -1);
+  std::uint32_t distinct = 0;
+  const std::vector<float>& values = image_.data();
+  const std::uint32_t w = image_.width(), h = image_.height();
+  blocksX_ = (w + 3) / 4;
+  codes_.assign(static_cast<std::size_t>(blocksX_) * ((h + 3) / 4), CodeBlock{});
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const auto bits = std::bit_cast<std::uint32_t>(values[i]);
+    std::uint32_t slot = (bits * 2654435761u) >> 22;  // Fibonacci hashing into kSlots
+    while (slotCode[slot] >= 0 && keys[slot] != bits) slot = (slot + 1) % kSlots;
+    if (slotCode[slot] < 0) {
+      if (distinct == palette_.size()) {  // more than 256 values: keep the float image only
+        codes_.clear();
+        codes_.shrink_to_fit();
+        return;
+      }
+      keys[slot] = bits;
+      slotCode[slot] = static_cast<std::int16_t>(distinct);
+      palette_[distinct++] = values[i];
+    }
+    const std::size_t texel = i / 3;
+    const auto column = static_cast<std::uint32_t>(texel % w),
+               row = static_cast<std::uint32_t>(texel / w);
+    codes_[static_cast<std::size_t>(row >> 2) * blocksX_ + (column >> 2)]
+        .codes[(row & 3u) * 4u + (column & 3u)] |= static_cast<std::uint32_t>(slotCode[slot])
+                                                   << (8 * (i % 3));
+  }
 }
 
 Texture Texture::load(const std::string& path, ColorEncoding encoding) {
@@ -163,15 +208,15 @@ Texture Texture::load(const std::string& path, ColorEncoding encoding) {
 }
 
 Vec3f Texture::texel(long long x, long long y) const {
-  return image_.rgb(wrap(x, image_.width()), wrap(y, image_.height()));
+  return at(wrap(x, image_.width()), wrap(y, image_.height()));
 }
 
 Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
   if (image_.empty()) return {1.0f, 1.0f, 1.0f};
   // Work in double: u * width for u of a few thousand repeats must still pick the right texel.
   // fmod (exact) keeps huge coordinates from overflowing the integer conversion below.
-  const double x = std::fmod(static_cast<double>(uv.u) * image_.width(), image_.width());
-  const double y = std::fmod(static_cast<double>(uv.v) * image_.height(), image_.height());
+  const double x = wrapCoordinate(static_cast<double>(uv.u) * image_.width(), image_.width());
+  const double y = wrapCoordinate(static_cast<double>(uv.v) * image_.height(), image_.height());
   if (!std::isfinite(x) || !std::isfinite(y)) return texel(0, 0);
   if (filter == TextureFilter::Nearest)
     return texel(static_cast<long long>(std::floor(x)), static_cast<long long>(std::floor(y)));
@@ -180,8 +225,11 @@ Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
   const double x0 = std::floor(fx), y0 = std::floor(fy);
   const float ax = static_cast<float>(fx - x0), ay = static_cast<float>(fy - y0);
   const long long ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
-  const Vec3f top = texel(ix, iy) * (1.0f - ax) + texel(ix + 1, iy) * ax;
-  const Vec3f bottom = texel(ix, iy + 1) * (1.0f - ax) + texel(ix + 1, iy + 1) * ax;
+  // Each column and row wrapped once, shared by the two texels that use it.
+  const std::uint32_t c0 = wrap(ix, image_.width()), c1 = wrap(ix + 1, image_.width());
+  const std::uint32_t r0 = wrap(iy, image_.height()), r1 = wrap(iy + 1, image_.height());
+  const Vec3f top = at(c0, r0) * (1.0f - ax) + at(c1, r0) * ax;
+  const Vec3f bottom = at(c0, r1) * (1.0f - ax) + at(c1, r1) * ax;
   return top * (1.0f - ay) + bottom * ay;
 }
 
