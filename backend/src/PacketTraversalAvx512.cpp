@@ -29,7 +29,7 @@ inline __m512 slotPair(const float* row, int s) {
   return _mm512_mask_blend_ps(0xFF00, _mm512_set1_ps(row[s]), _mm512_set1_ps(row[s + 1]));
 }
 
-struct Avx512NodeTest {
+struct Avx512NodeTest : Avx8LaneOps {
   static void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
                    float entry[4][kPacketLanes]) {
     const __m512i absMask = _mm512_set1_epi32(0x7FFFFFFF);

@@ -5,6 +5,8 @@
 // NodeTest::test(node, rays, lanes, hit, entry) tests the four child boxes of `node` against
 // the lanes in `lanes` and writes, per slot, the lanes that hit it (hit[s]) and each lane's
 // widened entry distance (entry[s][lane]), with exactly the arithmetic of intersectBvh4Node.
+// NodeTest also provides the lane operations of ScalarLaneOps (by deriving from it or from a
+// wider version with the same answers).
 #pragma once
 
 #include "PacketKernel.h"
@@ -17,6 +19,28 @@ namespace {
 inline unsigned lowestLane(unsigned mask) {
   return static_cast<unsigned>(__builtin_ctz(mask));
 }
+
+/// The walk's operations across the lanes of one stack entry, written lane by lane.
+struct ScalarLaneOps {
+  /// Smallest entry[l] over the lanes l in `mask` (not empty).
+  static float minEntry(const float* entry, unsigned mask) {
+    float k = entry[lowestLane(mask)];
+    for (unsigned m = mask; m != 0; m &= m - 1) {
+      const float e = entry[lowestLane(m)];
+      k = e < k ? e : k;
+    }
+    return k;
+  }
+  /// The lanes l of `mask` whose entry[l] lies beyond tfar[l] (false for NaN, as `>` is).
+  static unsigned beyond(const float* entry, const float* tfar, unsigned mask) {
+    unsigned out = 0;
+    for (unsigned m = mask; m != 0; m &= m - 1) {
+      const unsigned l = lowestLane(m);
+      if (entry[l] > tfar[l]) out |= 1u << l;
+    }
+    return out;
+  }
+};
 
 /// The walk: front to back over the packet's combined order (each subtree is entered at the
 /// smallest entry distance of its lanes), with each lane leaving a subtree whose entry lies
@@ -55,19 +79,16 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
       int n = 0;
       for (int s = 0; s < 4; ++s) {
         if (hit[s] == 0) continue;
-        float k = entry[s][lowestLane(hit[s])];
-        for (unsigned m = hit[s]; m != 0; m &= m - 1) {
-          const float e = entry[s][lowestLane(m)];
-          k = e < k ? e : k;
-        }
         int j = n++;
         if (!anyHit) {
+          // Any-hit queries visit children in slot order and need no key.
+          const float k = NodeTest::minEntry(entry[s], hit[s]);
           for (; j > 0 && key[j - 1] > k; --j) {
             key[j] = key[j - 1];
             order[j] = order[j - 1];
           }
+          key[j] = k;
         }
-        key[j] = k;
         order[j] = s;
       }
       if (n > 0) {
@@ -97,10 +118,7 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
       if (stackSize == 0) return occluded;
       const Entry& e = stack[--stackSize];
       unsigned need = e.lanes & active;
-      for (unsigned m = need; m != 0; m &= m - 1) {
-        const unsigned l = lowestLane(m);
-        if (e.entry[l] > rays.tfar[l]) need &= ~(1u << l);
-      }
+      need &= ~NodeTest::beyond(e.entry, rays.tfar, need);
       if (need != 0) {
         child = e.child;
         count = e.count;

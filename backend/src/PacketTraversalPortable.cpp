@@ -10,7 +10,7 @@
 namespace tg::detail {
 namespace {
 
-struct PortableNodeTest {
+struct PortableNodeTest : ScalarLaneOps {
   static void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
                    float entry[4][kPacketLanes]) {
 #if TG_BVH4_SSE
