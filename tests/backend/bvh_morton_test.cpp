@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "Bvh4Refit.h"
+#include "Bvh4TreeWalk.h"
 #include "BvhMortonBuilder.h"
 #include "tracegraph/backend/ObjectAccel.h"
 #include "tracegraph/backend/TriangleMesh.h"
@@ -23,65 +24,13 @@ using namespace tg::detail;
 
 namespace {
 
-/// What a walk from the root found.
-struct TreeCheck {
-  std::size_t nodesVisited = 0;
-  std::size_t leaves = 0;
-  std::size_t maxDepth = 0;
-  std::size_t errors = 0;
-  std::string firstError;
-};
+using TreeCheck = tg::test::Bvh4TreeCheck;
 
-void fail(TreeCheck& c, const std::string& what) {
-  if (c.errors++ == 0) c.firstError = what;
-}
-
-bool encloses(const Box3f& outer, const Box3f& inner) {
-  if (inner.empty()) return true;
-  return outer.contains(inner);
-}
-
-/// Checks the subtree of node `index` at `depth` against the primitive boxes in leaf order and
-/// returns the union of its slots. `seen` counts how often each leaf position is referenced.
-Box3f walk(const Bvh4NodeArray& nodes, std::uint32_t index, std::size_t depth,
-           const std::vector<Box3f>& boxes, std::uint32_t maxLeaf, std::vector<int>& seen,
-           TreeCheck& c) {
-  ++c.nodesVisited;
-  c.maxDepth = std::max(c.maxDepth, depth);
-  const Bvh4Node& node = nodes[index];
-  Box3f all;
-  int used = 0;
-  for (int s = 0; s < 4; ++s) {
-    const Box3f slot = node.slotBounds(s);
-    if (node.child[s] == kInvalidId) {
-      if (node.count[s] != 0 || !slot.empty()) fail(c, "unused slot with a box or count");
-      continue;
-    }
-    ++used;
-    if (node.count[s] != 0) {
-      ++c.leaves;
-      if (node.count[s] > maxLeaf) fail(c, "leaf above the size limit");
-      if (std::size_t{node.child[s]} + node.count[s] > boxes.size()) {
-        fail(c, "leaf beyond the primitives");
-        continue;
-      }
-      for (std::uint32_t k = node.child[s]; k < node.child[s] + node.count[s]; ++k) {
-        ++seen[k];
-        if (!encloses(slot, boxes[k])) fail(c, "leaf box misses a primitive");
-      }
-    } else {
-      if (node.child[s] <= index || node.child[s] >= nodes.size()) {
-        fail(c, "child not numbered after its parent");
-        continue;
-      }
-      const Box3f child = walk(nodes, node.child[s], depth + 1, boxes, maxLeaf, seen, c);
-      if (!encloses(slot, child)) fail(c, "inner box misses its child");
-    }
-    all.extend(slot);
-  }
-  if (used == 0) fail(c, "node without children");
-  if (used == 1 && index != 0) fail(c, "inner node with a single child");
-  return all;
+/// The structural walk with the Morton builder's rules (slot boxes enclose their contents).
+Box3f walk(const Bvh4NodeArray& nodes, const std::vector<Box3f>& sorted, std::uint32_t maxLeaf,
+           std::vector<int>& seen, TreeCheck& c) {
+  return tg::test::walkBvh4(nodes, 0, 0, sorted, {maxLeaf, false, tg::test::SlotBoxRule::Enclosing},
+                            seen, c);
 }
 
 /// Builds over `boxes` and checks the structure; returns the checked result.
@@ -109,7 +58,7 @@ BvhBuildResult buildAndCheck(const std::vector<Box3f>& boxes, std::uint32_t maxL
   for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = boxes[order[k]];
   std::vector<int> seen(boxes.size(), 0);
   TreeCheck c;
-  const Box3f root = walk(out.nodes, 0, 0, sorted, maxLeaf, seen, c);
+  const Box3f root = walk(out.nodes, sorted, maxLeaf, seen, c);
   BOOST_TEST(c.errors == 0u, label << ": " << c.firstError);
   BOOST_TEST(std::count(seen.begin(), seen.end(), 1) == static_cast<long>(boxes.size()),
              label << ": every primitive in exactly one leaf");
@@ -320,7 +269,7 @@ BOOST_AUTO_TEST_CASE(jobs_give_the_tree_of_a_single_recursion) {
       for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = boxes[order[k]];
       std::vector<int> seen(boxes.size(), 0);
       TreeCheck c;
-      walk(out.nodes, 0, 0, sorted, maxLeaf, seen, c);
+      walk(out.nodes, sorted, maxLeaf, seen, c);
       BOOST_TEST(c.errors == 0u, label << ": " << c.firstError);
       BOOST_TEST(c.nodesVisited == out.nodes.size(), label);
     }
@@ -469,7 +418,7 @@ BOOST_AUTO_TEST_CASE(refit_recomputes_boxes_bottom_up) {
   for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = boxes[order[k]];
   std::vector<int> seen(boxes.size(), 0);
   TreeCheck c;
-  BOOST_TEST((walk(nodes, 0, 0, sorted, options.maxLeafSize, seen, c) == root));
+  BOOST_TEST((walk(nodes, sorted, options.maxLeafSize, seen, c) == root));
   BOOST_TEST(c.errors == 0u, c.firstError);
   const double walked = bvh4SahCost(nodes, 1.0, 1.0);
   BOOST_TEST(std::abs(sum.finish(root, 1.0) - walked) <= 1e-9 * walked);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "Bvh4TreeWalk.h"
 #include "BvhBinning.h"
 #include "BvhBuilder.h"
 
@@ -21,70 +22,8 @@ using namespace tg::detail;
 
 namespace {
 
-/// What a walk from the root found.
-struct TreeCheck {
-  std::size_t leaves = 0;
-  std::size_t errors = 0;
-  std::string firstError;
-  /// Depth-first description of the tree (slot kinds, counts, first primitives, boxes): equal
-  /// for equal trees whatever numbering their nodes got.
-  std::vector<float> shape;
-};
-
-void fail(TreeCheck& c, const std::string& what) {
-  if (c.errors++ == 0) c.firstError = what;
-}
-
-bool sameBox(const Box3f& a, const Box3f& b) {
-  for (int k = 0; k < 3; ++k)
-    if (a.lower[k] != b.lower[k] || a.upper[k] != b.upper[k]) return false;
-  return true;
-}
-
-/// Checks node `index` and below; returns the union of its slots. `seen` counts how often each
-/// primitive position is referenced by a leaf.
-Box3f walk(const Bvh4NodeArray& nodes, std::uint32_t index, const std::vector<BvhPrim>& prims,
-           std::uint32_t maxLeaf, bool allowBigLeaves, std::vector<int>& seen, TreeCheck& c) {
-  const Bvh4Node& node = nodes[index];
-  Box3f all;
-  for (int s = 0; s < 4; ++s) {
-    if (node.child[s] == kInvalidId) {
-      c.shape.push_back(-1.0f);
-      continue;
-    }
-    const Box3f slot = node.slotBounds(s);
-    Box3f inside;
-    if (node.count[s] != 0) {
-      ++c.leaves;
-      c.shape.push_back(static_cast<float>(node.count[s]));
-      c.shape.push_back(static_cast<float>(node.child[s]));
-      if (node.count[s] > maxLeaf && !allowBigLeaves) fail(c, "leaf above the size limit");
-      if (std::size_t{node.child[s]} + node.count[s] > prims.size()) {
-        fail(c, "leaf past the primitives");
-        continue;
-      }
-      for (std::uint32_t k = node.child[s]; k < node.child[s] + node.count[s]; ++k) {
-        ++seen[k];
-        inside.extend(prims[k].box());
-      }
-    } else {
-      c.shape.push_back(0.0f);
-      if (node.child[s] <= index || node.child[s] >= nodes.size()) {
-        fail(c, "child not numbered after its parent");
-        continue;
-      }
-      inside = walk(nodes, node.child[s], prims, maxLeaf, allowBigLeaves, seen, c);
-    }
-    // Slots hold exactly the union of what is below them: min and max are exact.
-    if (!sameBox(slot, inside)) fail(c, "slot box is not the union of its contents");
-    for (int k = 0; k < 3; ++k) {
-      c.shape.push_back(slot.lower[k]);
-      c.shape.push_back(slot.upper[k]);
-    }
-    all.extend(slot);
-  }
-  return all;
-}
+using TreeCheck = tg::test::Bvh4TreeCheck;
+using tg::test::sameBox;
 
 /// Builds over `boxes` and checks the result; returns the tree description.
 TreeCheck buildAndCheck(const std::vector<Box3f>& boxes, const BvhBuildOptions& options,
@@ -95,23 +34,27 @@ TreeCheck buildAndCheck(const std::vector<Box3f>& boxes, const BvhBuildOptions& 
   buildBvh4(prims, options, out);
   TreeCheck c;
   if (boxes.empty()) {
-    if (!out.nodes.empty()) fail(c, "nodes for an empty input");
+    if (!out.nodes.empty()) c.fail("nodes for an empty input");
     return c;
   }
   // The primitives are a permutation of the input.
   std::vector<int> ids(boxes.size(), 0);
   for (const BvhPrim& p : prims) {
-    if (p.id >= boxes.size() || !sameBox(p.box(), boxes[p.id])) fail(c, "primitive changed");
+    if (p.id >= boxes.size() || !sameBox(p.box(), boxes[p.id])) c.fail("primitive changed");
     if (p.id < boxes.size()) ++ids[p.id];
   }
   for (const int n : ids)
-    if (n != 1) fail(c, "primitives are not a permutation of the input");
+    if (n != 1) c.fail("primitives are not a permutation of the input");
   std::vector<int> seen(prims.size(), 0);
-  const Box3f all = walk(out.nodes, 0, prims, options.maxLeafSize, allowBigLeaves, seen, c);
+  std::vector<Box3f> primBoxes;
+  for (const BvhPrim& p : prims) primBoxes.push_back(p.box());
+  const Box3f all = tg::test::walkBvh4(
+      out.nodes, 0, 0, primBoxes,
+      {options.maxLeafSize, allowBigLeaves, tg::test::SlotBoxRule::Exact}, seen, c);
   for (const int n : seen)
-    if (n != 1) fail(c, "a primitive is not in exactly one leaf");
-  if (!sameBox(all, out.bounds)) fail(c, "result bounds differ from the root's slots");
-  if (c.leaves != out.leaves) fail(c, "leaf count differs from the walk");
+    if (n != 1) c.fail("a primitive is not in exactly one leaf");
+  if (!sameBox(all, out.bounds)) c.fail("result bounds differ from the root's slots");
+  if (c.leaves != out.leaves) c.fail("leaf count differs from the walk");
   return c;
 }
 
