@@ -34,22 +34,30 @@ struct TriangleSummary {
   }
 };
 
-template <class Fn>
-TriangleSummary summarise(std::size_t n, Fn&& perTriangle) {
-  const auto block = [&](std::size_t begin, std::size_t end, TriangleSummary acc) {
+/// Reduces perTriangle(i, acc) over the triangles [0, n) into an Acc (which provides merge),
+/// on the calling thread below kParallelTriangles, else in blocks of at least `grain`.
+template <class Acc, class Fn>
+Acc reduceTriangles(std::size_t n, std::size_t grain, Fn&& perTriangle) {
+  const auto block = [&](std::size_t begin, std::size_t end, Acc acc) {
     for (std::size_t i = begin; i < end; ++i) perTriangle(i, acc);
     return acc;
   };
-  if (n < kParallelTriangles) return block(0, n, TriangleSummary{});
+  if (n < kParallelTriangles) return block(0, n, Acc{});
   return tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, n, 1024), TriangleSummary{},
-      [&](const tbb::blocked_range<std::size_t>& r, const TriangleSummary& acc) {
+      tbb::blocked_range<std::size_t>(0, n, grain), Acc{},
+      [&](const tbb::blocked_range<std::size_t>& r, const Acc& acc) {
         return block(r.begin(), r.end(), acc);
       },
-      [](TriangleSummary a, const TriangleSummary& b) {
+      [](Acc a, const Acc& b) {
         a.merge(b);
         return a;
       });
+}
+
+/// reduceTriangles into a TriangleSummary.
+template <class Fn>
+TriangleSummary summarise(std::size_t n, Fn&& perTriangle) {
+  return reduceTriangles<TriangleSummary>(n, 1024, perTriangle);
 }
 
 template <class Fn>
@@ -183,26 +191,12 @@ void BvhAccel::buildMorton(const TriangleMesh& mesh) {
   // Every triangle takes part, degenerate ones included (see BvhAccel). The builder needs only
   // the box centres (as lower + upper) to sort; boxes come with the nodes.
   centroids_.resize(n);
-  const auto centroidBlock = [&](std::size_t begin, std::size_t end, MortonCentroidBounds acc) {
-    for (std::size_t i = begin; i < end; ++i) {
-      const TriangleVertices t = verticesOf(mesh, i);
-      centroids_[i] = min(min(t.v0, t.v1), t.v2) + max(max(t.v0, t.v1), t.v2);
-      acc.add(centroids_[i]);
-    }
-    return acc;
-  };
   const MortonCentroidBounds centroidBounds =
-      n < kParallelTriangles
-          ? centroidBlock(0, n, MortonCentroidBounds{})
-          : tbb::parallel_reduce(
-                tbb::blocked_range<std::size_t>(0, n, 4096), MortonCentroidBounds{},
-                [&](const tbb::blocked_range<std::size_t>& r, const MortonCentroidBounds& acc) {
-                  return centroidBlock(r.begin(), r.end(), acc);
-                },
-                [](MortonCentroidBounds a, const MortonCentroidBounds& b) {
-                  a.merge(b);
-                  return a;
-                });
+      reduceTriangles<MortonCentroidBounds>(n, 4096, [&](std::size_t i, MortonCentroidBounds& acc) {
+        const TriangleVertices t = verticesOf(mesh, i);
+        centroids_[i] = min(min(t.v0, t.v1), t.v2) + max(max(t.v0, t.v1), t.v2);
+        acc.add(centroids_[i]);
+      });
   rank_.resize(n);
   morton_.sort(centroids_, primIds_, &centroidBounds, rank_.data());
   // Triangles go to their leaf positions by a scatter in mesh order rather than a gather in
