@@ -346,13 +346,12 @@ namespace {
 constexpr std::uint32_t kFilterBatch = 8;
 
 /// What the packet leaf callbacks of both queries need; passed through the kernel as `user`.
-/// Lanes in `filtered` share an axis permutation and go through the SIMD pre-filter
-/// (`triangleRays`); the others are tested lane by lane.
+/// Lanes in `rays->filtered` go through the SIMD pre-filter (`rays->triangles`); the others are
+/// tested lane by lane.
 struct PacketLeafContext {
   const BvhAccel* accel;
   TraversalContext* ctx;
-  PacketTriangleRays triangleRays;
-  unsigned filtered = 0;
+  const BvhPacketRays* rays;
 };
 
 /// The closest-hit callbacks' context: they lower the lanes' tfar in the packet itself.
@@ -373,16 +372,16 @@ struct OccludedLeafContext : PacketLeafContext {
 template <class Test>
 void forEachCandidate(const PacketLeafContext& c, std::uint32_t first, std::uint32_t count,
                       unsigned lanes, const Test& test) {
-  const unsigned filtered = lanes & c.filtered;
-  unsigned scalar = lanes & ~c.filtered;
+  const unsigned filtered = lanes & c.rays->filtered;
+  unsigned scalar = lanes & ~c.rays->filtered;
   if (filtered != 0) {
-    c.ctx->triangleTests += static_cast<std::uint64_t>(__builtin_popcount(filtered)) * count;
+    c.ctx->triangleTests += static_cast<std::uint64_t>(laneCount(filtered)) * count;
     unsigned live = filtered;
     unsigned candidates[kFilterBatch];
     for (std::uint32_t base = first; base < first + count && live != 0; base += kFilterBatch) {
       const std::uint32_t n = std::min(kFilterBatch, first + count - base);
-      activePacketKernels().filterTriangles(c.accel->triangleFloats(base), n, c.triangleRays, live,
-                                            candidates);
+      activePacketKernels().filterTriangles(c.accel->triangleFloats(base), n, c.rays->triangles,
+                                            live, candidates);
       for (std::uint32_t i = 0; i < n; ++i)
         for (unsigned m = candidates[i] & live; m != 0; m &= m - 1) {
           const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
@@ -438,80 +437,92 @@ unsigned occludedSingleLane(void* user, std::uint32_t child, unsigned lane, Pack
   return c.accel->occludedSubtree(c.packet->rays[lane], child, *c.ctx) ? 1u : 0u;
 }
 
-/// Loads the lanes of `packet` whose direction signs match its first lane's into `rays` and
-/// returns them; the other lanes must be traced alone. Of those, the lanes that share the
-/// first one's axis permutation go into the triangle pre-filter's layout.
-unsigned loadObjectPacket(const ObjectRayPacket& packet, unsigned lanes, PacketBoxRays& rays,
-                          PacketLeafContext& c) {
+}  // namespace
+
+void BvhAccel::loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPacketRays& out) {
+  // Only the lanes whose direction signs match the first lane's share the box rows; of those,
+  // the ones with the first lane's axis permutation share the pre-filter's layout.
   const unsigned first = static_cast<unsigned>(__builtin_ctz(lanes));
   const WatertightRay& lead = packet.rays[first].wt;
   const unsigned signs = directionSigns(lead.direction);
-  unsigned coherent = 0;
-  c.filtered = 0;
-  c.triangleRays.kx = lead.kx;
-  c.triangleRays.ky = lead.ky;
-  c.triangleRays.kz = lead.kz;
+  PacketBoxRays& box = out.box;
+  PacketTriangleRays& tri = out.triangles;
+  unsigned coherent = 0, filtered = 0;
+  tri.kx = lead.kx;
+  tri.ky = lead.ky;
+  tri.kz = lead.kz;
   for (unsigned m = lanes; m != 0; m &= m - 1) {
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
     const ObjectRay& r = packet.rays[l];
     if (directionSigns(r.wt.direction) != signs) continue;
-    setPacketLane(rays, l, r.wt.origin, r.wt.direction, r.wt.tnear, r.tfar);
+    setPacketLaneWithReciprocal(box, l, r.wt.origin, r.wt.direction, r.inverseDirection, r.wt.tnear,
+                                r.tfar);
     coherent |= 1u << l;
     if (r.wt.kx == lead.kx && r.wt.ky == lead.ky && r.wt.kz == lead.kz) {
-      for (int a = 0; a < 3; ++a) c.triangleRays.origin[a][l] = r.wt.origin[a];
-      c.triangleRays.sx[l] = r.wt.sx;
-      c.triangleRays.sy[l] = r.wt.sy;
-      c.filtered |= 1u << l;
+      for (int a = 0; a < 3; ++a) tri.origin[a][l] = r.wt.origin[a];
+      tri.sx[l] = r.wt.sx;
+      tri.sy[l] = r.wt.sy;
+      filtered |= 1u << l;
     }
   }
   // Lanes outside the filter still go through its full-width arithmetic: give them numbers.
   for (unsigned l = 0; l < kPacketLanes; ++l) {
-    if (c.filtered & (1u << l)) continue;
-    for (int a = 0; a < 3; ++a) c.triangleRays.origin[a][l] = lead.origin[a];
-    c.triangleRays.sx[l] = lead.sx;
-    c.triangleRays.sy[l] = lead.sy;
+    if (filtered & (1u << l)) continue;
+    for (int a = 0; a < 3; ++a) tri.origin[a][l] = lead.origin[a];
+    tri.sx[l] = lead.sx;
+    tri.sy[l] = lead.sy;
   }
-  setPacketRows(rays, signs);
-  fillUnusedLanes(rays, coherent, first);
-  return coherent;
+  setPacketRows(box, signs);
+  fillUnusedLanes(box, coherent, first);
+  out.coherent = coherent;
+  out.filtered = filtered;
 }
 
-}  // namespace
+unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays,
+                                         unsigned lanes, Hit* hits, TraversalContext& ctx) const {
+  if (lanes == 0 || nodes_.empty()) return 0;
+  if (laneCount(lanes) < kMinPacketLanes)
+    return ObjectAccel::intersectPacket(packet, lanes, hits, ctx);
+  ClosestLeafContext c;
+  c.accel = this;
+  c.ctx = &ctx;
+  c.rays = &rays;
+  c.packet = &packet;
+  c.hits = hits;
+  activePacketKernels().traverse(nodes_.data(), rays.box, lanes, false, &intersectPacketLeaf,
+                                 &intersectSingleLane, &c, ctx.nodeVisits);
+  return c.changed;
+}
+
+unsigned BvhAccel::occludedLoadedPacket(const ObjectRayPacket& packet, BvhPacketRays& rays,
+                                        unsigned lanes, TraversalContext& ctx) const {
+  if (lanes == 0 || nodes_.empty()) return 0;
+  if (laneCount(lanes) < kMinPacketLanes) return ObjectAccel::occludedPacket(packet, lanes, ctx);
+  OccludedLeafContext c;
+  c.accel = this;
+  c.ctx = &ctx;
+  c.rays = &rays;
+  c.packet = &packet;
+  return activePacketKernels().traverse(nodes_.data(), rays.box, lanes, true, &occludedPacketLeaf,
+                                        &occludedSingleLane, &c, ctx.nodeVisits);
+}
 
 unsigned BvhAccel::intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit* hits,
                                    TraversalContext& ctx) const {
   if (lanes == 0 || nodes_.empty()) return 0;
-  PacketBoxRays rays;
-  ClosestLeafContext c;
-  c.accel = this;
-  c.packet = &packet;
-  c.ctx = &ctx;
-  c.hits = hits;
-  const unsigned coherent = loadObjectPacket(packet, lanes, rays, c);
-  if (__builtin_popcount(coherent) >= kMinPacketLanes) {
-    activePacketKernels().traverse(nodes_.data(), rays, coherent, false, &intersectPacketLeaf,
-                                   &intersectSingleLane, &c, ctx.nodeVisits);
-  } else {
-    c.changed = ObjectAccel::intersectPacket(packet, coherent, hits, ctx);
-  }
-  return c.changed | ObjectAccel::intersectPacket(packet, lanes & ~coherent, hits, ctx);
+  BvhPacketRays rays;
+  loadPacket(packet, lanes, rays);
+  return intersectLoadedPacket(packet, rays, rays.coherent, hits, ctx) |
+         ObjectAccel::intersectPacket(packet, lanes & ~rays.coherent, hits, ctx);
 }
 
 unsigned BvhAccel::occludedPacket(const ObjectRayPacket& packet, unsigned lanes,
                                   TraversalContext& ctx) const {
   if (lanes == 0 || nodes_.empty()) return 0;
-  PacketBoxRays rays;
-  OccludedLeafContext c;
-  c.accel = this;
-  c.packet = &packet;
-  c.ctx = &ctx;
-  const unsigned coherent = loadObjectPacket(packet, lanes, rays, c);
-  const unsigned blocked =
-      __builtin_popcount(coherent) >= kMinPacketLanes
-          ? activePacketKernels().traverse(nodes_.data(), rays, coherent, true, &occludedPacketLeaf,
-                                           &occludedSingleLane, &c, ctx.nodeVisits)
-          : ObjectAccel::occludedPacket(packet, coherent, ctx);
-  return blocked | ObjectAccel::occludedPacket(packet, lanes & ~coherent, ctx);
+  BvhPacketRays rays;
+  loadPacket(packet, lanes, rays);
+  return occludedLoadedPacket(packet, rays, rays.coherent, ctx) |
+         ObjectAccel::occludedPacket(packet, lanes & ~rays.coherent, ctx);
 }
 
 }  // namespace tg::detail

@@ -6,10 +6,26 @@
 
 #include "BvhBuilder.h"
 #include "BvhMortonBuilder.h"
+#include "PacketKernel.h"
 #include "tracegraph/backend/KdTree.h"
 #include "tracegraph/backend/ObjectAccel.h"
 
 namespace tg::detail {
+
+/// A packet as BvhAccel's packet walk reads it (BvhAccel::loadPacket): the box-test rays of the
+/// lanes that share the first lane's direction signs, and the triangle pre-filter's rays of
+/// those that also share its axis permutation. A caller that sends the same rays into several
+/// objects (identity instances) loads them once.
+struct BvhPacketRays {
+  /// Box-test rays; the walk lowers tfar of the lanes that find closer hits.
+  PacketBoxRays box;
+  /// Triangle pre-filter rays of the lanes in `filtered`.
+  PacketTriangleRays triangles;
+  /// Lanes in `box`: the others need another walk.
+  unsigned coherent = 0;
+  /// Lanes of `coherent` in `triangles`: the others are tested lane by lane.
+  unsigned filtered = 0;
+};
 
 /// A BVH4 over one mesh. Leaves hold up to a few triangles, copied contiguously in leaf order
 /// for the same watertight test the kd-trees use, so hits are identical whichever accelerator
@@ -35,6 +51,16 @@ class BvhAccel final : public ObjectAccel {
   unsigned occludedPacket(const ObjectRayPacket& packet, unsigned lanes,
                           TraversalContext& ctx) const override;
   const BuildStats& stats() const override { return stats_; }
+
+  /// Loads the lanes of `packet` in `lanes` into `out` (see BvhPacketRays).
+  static void loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPacketRays& out);
+  /// intersectPacket for lanes already loaded: `lanes` lie in rays.coherent, and rays.box.tfar
+  /// of each equals its packet ray's tfar. Returns the lanes whose hit changed.
+  unsigned intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned lanes,
+                                 Hit* hits, TraversalContext& ctx) const;
+  /// occludedPacket for lanes already loaded (see intersectLoadedPacket).
+  unsigned occludedLoadedPacket(const ObjectRayPacket& packet, BvhPacketRays& rays, unsigned lanes,
+                                TraversalContext& ctx) const;
 
   /// Closest-hit test of one ray against the triangles [first, first + count) of a leaf; the
   /// leaf test of both the single-ray and the packet walk, so that both find the same hits.

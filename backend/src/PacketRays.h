@@ -9,6 +9,14 @@
 
 namespace tg::detail {
 
+/// Number of lanes set in a packet mask. __builtin_popcount is a library call on the x86-64
+/// baseline (no POPCNT instruction), and a mask is only kPacketLanes bits.
+inline int laneCount(unsigned lanes) {
+  static_assert(kPacketLanes == 8, "laneCount counts two nibbles");
+  static constexpr unsigned char kNibbleBits[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+  return kNibbleBits[lanes & 15u] + kNibbleBits[(lanes >> 4) & 15u];
+}
+
 /// Bit a set when direction[a] < 0. Zero components (+0 and -0) count as positive, as in
 /// Bvh4Ray, whose reciprocal of a zero is +inf.
 inline unsigned directionSigns(const Vec3f& direction) {
@@ -23,6 +31,20 @@ inline void setPacketLane(PacketBoxRays& rays, unsigned lane, const Vec3f& origi
     rays.origin[a][lane] = origin[a];
     rays.reciprocal[a][lane] =
         direction[a] == 0.0f ? std::numeric_limits<float>::infinity() : 1.0f / direction[a];
+  }
+  rays.tnear[lane] = tnear;
+  rays.tfar[lane] = tfar;
+}
+
+/// setPacketLane for a ray whose reciprocal direction is already known (1/d per component, +-inf
+/// for +-0, as ObjectRay::inverseDirection holds it): the same lane without three divisions.
+inline void setPacketLaneWithReciprocal(PacketBoxRays& rays, unsigned lane, const Vec3f& origin,
+                                        const Vec3f& direction, const Vec3f& reciprocal,
+                                        float tnear, float tfar) {
+  for (int a = 0; a < 3; ++a) {
+    rays.origin[a][lane] = origin[a];
+    rays.reciprocal[a][lane] =
+        direction[a] == 0.0f ? std::numeric_limits<float>::infinity() : reciprocal[a];
   }
   rays.tnear[lane] = tnear;
   rays.tfar[lane] = tfar;

@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
+#include <new>
 
+#include "BvhAccel.h"
 #include "PacketRays.h"
 
 namespace tg::detail {
@@ -64,26 +67,116 @@ bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
                             });
 }
 
+namespace {
+
+/// An ObjectRayPacket whose lanes are written before they are read. A constructed packet writes
+/// the default values of all its rays (a kilobyte), which a walk over a few instances would pay
+/// on every packet; ObjectRayPacket is an aggregate, so byte storage provides one without them.
+class UninitialisedObjectPacket {
+ public:
+  UninitialisedObjectPacket() {}  // leaves the storage as it is, on purpose
+  ObjectRayPacket& get() { return *std::launder(reinterpret_cast<ObjectRayPacket*>(storage_)); }
+
+ private:
+  alignas(ObjectRayPacket) std::byte storage_[sizeof(ObjectRayPacket)];
+};
+
+/// True when `accel` is a BvhAccel, whose packet walk takes rays loaded once per top-level walk.
+bool isBvhAccel(const ObjectAccel& accel) {
+  return accel.kind() == AccelKind::Bvh || accel.kind() == AccelKind::BvhFast;
+}
+
+}  // namespace
+
 /// The packet walk over instances: world rays in the kernel, object packets into each instance
 /// a leaf holds (mapped lane by lane exactly as objectRayFor maps single rays).
+///
+/// Identity instances (all static geometry is one) see the world rays themselves, so their
+/// object packet, with its shear constants and reciprocals, and the BVH's loaded form of it are
+/// computed once per walk, for all its lanes, at the first identity instance entered; entering
+/// one only rewrites tfar and the ids.
 struct TopLevelPacketWalk {
+  TopLevelPacketWalk(const TopLevelBvh* top_, const Ray* rays_, Hit* hits_, TraversalContext* ctx_)
+      : top(top_), rays(rays_), hits(hits_), ctx(ctx_) {}
+
   const TopLevelBvh* top;
   const Ray* rays;
   Hit* hits;
   TraversalContext* ctx;
+  /// Lanes of the walk (set by load).
+  unsigned walkLanes = 0;
+  /// Object packet of the transformed instance being entered.
+  UninitialisedObjectPacket mapped;
+  /// Object packet of identity instances; valid once identityReady.
+  UninitialisedObjectPacket identity;
+  bool identityReady = false;
+  /// `identity` loaded for BvhAccel; valid once identityBvhReady.
+  BvhPacketRays identityBvh;
+  bool identityBvhReady = false;
+
+  /// The object packet of `inst` for `lanes`, lane l limited to tfar(l); equal, lane by lane, to
+  /// objectRayFor(inst, rays[l], tfar(l)).
+  template <class Tfar>
+  ObjectRayPacket& objectPacket(const InstanceRecord& inst, unsigned lanes, const Tfar& tfar) {
+    if (!inst.identity) {
+      ObjectRayPacket& packet = mapped.get();
+      for (unsigned m = lanes; m != 0; m &= m - 1) {
+        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+        packet.rays[l] = objectRayFor(inst, rays[l], tfar(l));
+      }
+      return packet;
+    }
+    ObjectRayPacket& packet = identity.get();
+    if (!identityReady) {
+      for (unsigned m = walkLanes; m != 0; m &= m - 1) {
+        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+        packet.rays[l] = objectRayFor(inst, rays[l], rays[l].tfar);
+      }
+      identityReady = true;
+    }
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      ObjectRay& r = packet.rays[l];
+      r.tfar = tfar(l);
+      r.instanceId = inst.instanceId;
+      r.objectId = inst.objectId;
+    }
+    return packet;
+  }
+
+  /// The loaded form of the identity packet for a BvhAccel, with the tfar of `lanes` as the
+  /// packet holds it now (objectPacket must have been called for them).
+  BvhPacketRays& identityBvhRays(unsigned lanes) {
+    ObjectRayPacket& packet = identity.get();
+    if (!identityBvhReady) {
+      BvhAccel::loadPacket(packet, walkLanes, identityBvh);
+      identityBvhReady = true;
+    }
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      identityBvh.box.tfar[l] = packet.rays[l].tfar;
+    }
+    return identityBvh;
+  }
 
   static unsigned intersectLeaf(void* user, std::uint32_t first, std::uint32_t count,
                                 unsigned lanes, PacketBoxRays& boxRays) {
     auto& w = *static_cast<TopLevelPacketWalk*>(user);
-    ObjectRayPacket packet;
     for (std::uint32_t k = first; k < first + count; ++k) {
       const InstanceRecord& inst = w.top->instances_[w.top->refs_[k]];
-      for (unsigned m = lanes; m != 0; m &= m - 1) {
-        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-        const Ray& ray = w.rays[l];
-        packet.rays[l] = objectRayFor(inst, ray, w.hits[l].t < ray.tfar ? w.hits[l].t : ray.tfar);
+      ObjectRayPacket& packet = w.objectPacket(inst, lanes, [&](unsigned l) {
+        return w.hits[l].t < w.rays[l].tfar ? w.hits[l].t : w.rays[l].tfar;
+      });
+      unsigned changed = 0;
+      if (inst.identity && isBvhAccel(*inst.accel)) {
+        BvhPacketRays& loaded = w.identityBvhRays(lanes);
+        const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+        changed =
+            bvh.intersectLoadedPacket(packet, loaded, lanes & loaded.coherent, w.hits, *w.ctx) |
+            bvh.intersectPacket(packet, lanes & ~loaded.coherent, w.hits, *w.ctx);
+      } else {
+        changed = inst.accel->intersectPacket(packet, lanes, w.hits, *w.ctx);
       }
-      const unsigned changed = inst.accel->intersectPacket(packet, lanes, w.hits, *w.ctx);
       for (unsigned m = changed; m != 0; m &= m - 1) {
         const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
         boxRays.tfar[l] = std::min(boxRays.tfar[l], w.hits[l].t);
@@ -95,15 +188,20 @@ struct TopLevelPacketWalk {
   static unsigned occludedLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
                                PacketBoxRays&) {
     auto& w = *static_cast<TopLevelPacketWalk*>(user);
-    ObjectRayPacket packet;
     unsigned blocked = 0;
     for (std::uint32_t k = first; k < first + count && lanes != 0; ++k) {
       const InstanceRecord& inst = w.top->instances_[w.top->refs_[k]];
-      for (unsigned m = lanes; m != 0; m &= m - 1) {
-        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-        packet.rays[l] = objectRayFor(inst, w.rays[l], w.rays[l].tfar);
+      const ObjectRayPacket& packet =
+          w.objectPacket(inst, lanes, [&](unsigned l) { return w.rays[l].tfar; });
+      unsigned found = 0;
+      if (inst.identity && isBvhAccel(*inst.accel)) {
+        BvhPacketRays& loaded = w.identityBvhRays(lanes);
+        const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+        found = bvh.occludedLoadedPacket(packet, loaded, lanes & loaded.coherent, *w.ctx) |
+                bvh.occludedPacket(packet, lanes & ~loaded.coherent, *w.ctx);
+      } else {
+        found = inst.accel->occludedPacket(packet, lanes, *w.ctx);
       }
-      const unsigned found = inst.accel->occludedPacket(packet, lanes, *w.ctx);
       blocked |= found;
       lanes &= ~found;
     }
@@ -149,7 +247,7 @@ struct TopLevelPacketWalk {
   }
 
   /// Loads the world rays of `lanes` whose direction signs match the first lane's.
-  unsigned load(unsigned lanes, PacketBoxRays& boxRays) const {
+  unsigned load(unsigned lanes, PacketBoxRays& boxRays) {
     const unsigned firstLane = static_cast<unsigned>(__builtin_ctz(lanes));
     const unsigned signs = directionSigns(rays[firstLane].direction);
     unsigned coherent = 0;
@@ -163,38 +261,52 @@ struct TopLevelPacketWalk {
     }
     setPacketRows(boxRays, signs);
     fillUnusedLanes(boxRays, coherent, firstLane);
+    walkLanes = coherent;
     return coherent;
   }
 };
 
+// Lanes whose direction signs differ cannot share box rows (shadow rays towards a light among
+// their origins, say): each group of equal signs walks as a packet of its own, and groups too
+// small for one go lane by lane.
+
 void TopLevelBvh::intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
                                   TraversalContext& ctx) const {
   if (lanes == 0 || bvh_.nodes.empty()) return;
-  TopLevelPacketWalk walk{this, rays, hits, &ctx};
-  PacketBoxRays boxRays;
-  const unsigned coherent = walk.load(lanes, boxRays);
-  if (__builtin_popcount(coherent) >= kMinPacketLanes) {
-    activePacketKernels().traverse(bvh_.nodes.data(), boxRays, coherent, false,
+  unsigned alone = 0;
+  while (laneCount(lanes) >= kMinPacketLanes) {
+    TopLevelPacketWalk walk(this, rays, hits, &ctx);
+    PacketBoxRays boxRays;
+    const unsigned group = walk.load(lanes, boxRays);
+    lanes &= ~group;
+    if (laneCount(group) < kMinPacketLanes) {
+      alone |= group;
+      continue;
+    }
+    activePacketKernels().traverse(bvh_.nodes.data(), boxRays, group, false,
                                    &TopLevelPacketWalk::intersectLeaf,
                                    &TopLevelPacketWalk::intersectSingle, &walk, ctx.nodeVisits);
-    lanes &= ~coherent;
   }
-  TopLevelAccel::intersectPacket(rays, lanes, hits, ctx);
+  TopLevelAccel::intersectPacket(rays, lanes | alone, hits, ctx);
 }
 
 unsigned TopLevelBvh::occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const {
   if (lanes == 0 || bvh_.nodes.empty()) return 0;
-  TopLevelPacketWalk walk{this, rays, nullptr, &ctx};
-  PacketBoxRays boxRays;
-  const unsigned coherent = walk.load(lanes, boxRays);
-  unsigned blocked = 0;
-  if (__builtin_popcount(coherent) >= kMinPacketLanes) {
-    blocked = activePacketKernels().traverse(
-        bvh_.nodes.data(), boxRays, coherent, true, &TopLevelPacketWalk::occludedLeaf,
+  unsigned alone = 0, blocked = 0;
+  while (laneCount(lanes) >= kMinPacketLanes) {
+    TopLevelPacketWalk walk(this, rays, nullptr, &ctx);
+    PacketBoxRays boxRays;
+    const unsigned group = walk.load(lanes, boxRays);
+    lanes &= ~group;
+    if (laneCount(group) < kMinPacketLanes) {
+      alone |= group;
+      continue;
+    }
+    blocked |= activePacketKernels().traverse(
+        bvh_.nodes.data(), boxRays, group, true, &TopLevelPacketWalk::occludedLeaf,
         &TopLevelPacketWalk::occludedSingle, &walk, ctx.nodeVisits);
-    lanes &= ~coherent;
   }
-  return blocked | TopLevelAccel::occludedPacket(rays, lanes, ctx);
+  return blocked | TopLevelAccel::occludedPacket(rays, lanes | alone, ctx);
 }
 
 }  // namespace tg::detail

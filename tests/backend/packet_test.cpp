@@ -175,6 +175,10 @@ std::vector<std::unique_ptr<Scene>> makeScenes(std::mt19937& rng, bool instanced
         const Affine3d m = randomTransform(rng, 12.0, true);
         for (std::size_t s = 0; s < scenes.size(); ++s) scenes[s]->createInstance(ids[s], m);
       }
+      // Untransformed instances too: a packet walk shares the object rays of the identity
+      // instances it enters, so hits must still carry each one's own ids.
+      if (o < 2)
+        for (std::size_t s = 0; s < scenes.size(); ++s) scenes[s]->createInstance(ids[s]);
     }
   }
   for (auto& scene : scenes) scene->commit();
