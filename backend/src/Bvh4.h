@@ -124,9 +124,15 @@ struct Bvh4Ray {
   int farRow[3];   ///< and of the plane left last
   float tnear;     ///< smallest t that counts
 
-  Bvh4Ray(const Vec3f& org, const Vec3f& dir, float tnear_) : tnear(tnear_) {
+  Bvh4Ray(const Vec3f& org, const Vec3f& dir, float tnear_)
+      : Bvh4Ray(org, dir, Vec3f(1.0f / dir.x, 1.0f / dir.y, 1.0f / dir.z), tnear_) {}
+
+  /// From a ray whose reciprocal direction is already known (1/dir per component, +-inf for
+  /// +-0, as ObjectRay::inverseDirection holds it): the same constants without three divisions.
+  Bvh4Ray(const Vec3f& org, const Vec3f& dir, const Vec3f& inverseDir, float tnear_)
+      : tnear(tnear_) {
     for (int a = 0; a < 3; ++a) {
-      const float r = dir[a] == 0.0f ? std::numeric_limits<float>::infinity() : 1.0f / dir[a];
+      const float r = dir[a] == 0.0f ? std::numeric_limits<float>::infinity() : inverseDir[a];
 #if TG_BVH4_SSE
       origin[a] = _mm_set1_ps(org[a]);
       reciprocal[a] = _mm_set1_ps(r);
@@ -197,14 +203,14 @@ inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, floa
 /// else the leaf of rootCount primitives at rootChild (traverseBvh4 starts at the root node).
 template <bool AnyHit, class LeafFn>
 bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::uint32_t rootCount,
-                      const Vec3f& origin, const Vec3f& direction, float tnear, const float& tfar,
-                      std::uint64_t& nodeVisits, LeafFn&& leaf) {
+                      const Bvh4Ray& ray, const float& tfar, std::uint64_t& nodeVisits,
+                      LeafFn&& leaf) {
   if (nodes.empty()) return false;
   struct Entry {
     std::uint32_t child, count;
     float tmin;
   };
-  const Bvh4Ray ray(origin, direction, tnear);
+  const float tnear = ray.tnear;
   Entry stack[3 * kBvh4MaxDepth + 4];
   int stackSize = 0;
   Entry current{rootChild, rootCount, tnear};
@@ -247,6 +253,15 @@ bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::
       if (!(current.tmin > tfar)) break;
     }
   }
+}
+
+/// traverseBvh4From for the ray (origin, direction, tnear).
+template <bool AnyHit, class LeafFn>
+bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::uint32_t rootCount,
+                      const Vec3f& origin, const Vec3f& direction, float tnear, const float& tfar,
+                      std::uint64_t& nodeVisits, LeafFn&& leaf) {
+  return traverseBvh4From<AnyHit>(nodes, rootChild, rootCount, Bvh4Ray(origin, direction, tnear),
+                                  tfar, nodeVisits, static_cast<LeafFn&&>(leaf));
 }
 
 /// traverseBvh4From at the root node.

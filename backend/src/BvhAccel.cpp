@@ -308,10 +308,18 @@ const float* BvhAccel::triangleFloats(std::uint32_t first) const {
   return &triangles_[first].v0.x;
 }
 
+namespace {
+
+/// The box-test constants of an object ray, from its reciprocal direction.
+Bvh4Ray boxRayOf(const ObjectRay& ray) {
+  return {ray.wt.origin, ray.wt.direction, ray.inverseDirection, ray.wt.tnear};
+}
+
+}  // namespace
+
 bool BvhAccel::intersectSubtree(ObjectRay& ray, Hit& hit, std::uint32_t node,
                                 TraversalContext& ctx) const {
-  return traverseBvh4From<false>(nodes_, node, 0, ray.wt.origin, ray.wt.direction, ray.wt.tnear,
-                                 ray.tfar, ctx.nodeVisits,
+  return traverseBvh4From<false>(nodes_, node, 0, boxRayOf(ray), ray.tfar, ctx.nodeVisits,
                                  [&](std::uint32_t first, std::uint32_t count) {
                                    return intersectLeaf(ray, hit, first, count, ctx);
                                  });
@@ -319,25 +327,18 @@ bool BvhAccel::intersectSubtree(ObjectRay& ray, Hit& hit, std::uint32_t node,
 
 bool BvhAccel::occludedSubtree(const ObjectRay& ray, std::uint32_t node,
                                TraversalContext& ctx) const {
-  return traverseBvh4From<true>(nodes_, node, 0, ray.wt.origin, ray.wt.direction, ray.wt.tnear,
-                                ray.tfar, ctx.nodeVisits,
+  return traverseBvh4From<true>(nodes_, node, 0, boxRayOf(ray), ray.tfar, ctx.nodeVisits,
                                 [&](std::uint32_t first, std::uint32_t count) {
                                   return occludedLeaf(ray, first, count, ctx);
                                 });
 }
 
 bool BvhAccel::intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const {
-  return traverseBvh4<false>(nodes_, ray.wt.origin, ray.wt.direction, ray.wt.tnear, ray.tfar,
-                             ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
-                               return intersectLeaf(ray, hit, first, count, ctx);
-                             });
+  return intersectSubtree(ray, hit, 0, ctx);
 }
 
 bool BvhAccel::occluded(const ObjectRay& ray, TraversalContext& ctx) const {
-  return traverseBvh4<true>(nodes_, ray.wt.origin, ray.wt.direction, ray.wt.tnear, ray.tfar,
-                            ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
-                              return occludedLeaf(ray, first, count, ctx);
-                            });
+  return occludedSubtree(ray, 0, ctx);
 }
 
 namespace {

@@ -4,6 +4,10 @@
 
 #include <limits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "PacketKernel.h"
 #include "tracegraph/backend/Vec3.h"
 
@@ -48,6 +52,42 @@ inline void setPacketLaneWithReciprocal(PacketBoxRays& rays, unsigned lane, cons
   }
   rays.tnear[lane] = tnear;
   rays.tfar[lane] = tfar;
+}
+
+/// setPacketLane that leaves the lane's direction where its reciprocal goes; after every lane
+/// and fillUnusedLanes, setPacketReciprocals turns all of them into reciprocals at once.
+inline void setPacketLaneDirection(PacketBoxRays& rays, unsigned lane, const Vec3f& origin,
+                                   const Vec3f& direction, float tnear, float tfar) {
+  for (int a = 0; a < 3; ++a) {
+    rays.origin[a][lane] = origin[a];
+    rays.reciprocal[a][lane] = direction[a];
+  }
+  rays.tnear[lane] = tnear;
+  rays.tfar[lane] = tfar;
+}
+
+/// Replaces the directions that setPacketLaneDirection left in rays.reciprocal by the values
+/// setPacketLane computes (1/d, +inf for +-0), four lanes per division where SSE is available:
+/// a correctly rounded quotient is the same whether computed alone or in a vector.
+inline void setPacketReciprocals(PacketBoxRays& rays) {
+#if defined(__SSE2__)
+  const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
+  const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
+  for (int a = 0; a < 3; ++a)
+    for (unsigned h = 0; h < kPacketLanes; h += 4) {
+      const __m128 d = _mm_load_ps(rays.reciprocal[a] + h);
+      const __m128 isZero = _mm_cmpeq_ps(d, zero);
+      const __m128 r = _mm_div_ps(one, d);
+      _mm_store_ps(rays.reciprocal[a] + h,
+                   _mm_or_ps(_mm_and_ps(isZero, inf), _mm_andnot_ps(isZero, r)));
+    }
+#else
+  for (int a = 0; a < 3; ++a)
+    for (unsigned l = 0; l < kPacketLanes; ++l) {
+      const float d = rays.reciprocal[a][l];
+      rays.reciprocal[a][l] = d == 0.0f ? std::numeric_limits<float>::infinity() : 1.0f / d;
+    }
+#endif
 }
 
 /// Sets the shared plane rows for direction signs `signs` (see directionSigns).

@@ -256,11 +256,12 @@ struct TopLevelPacketWalk {
       const Ray& r = rays[l];
       if (directionSigns(r.direction) != signs) continue;
       const float tfar = hits ? std::min(r.tfar, hits[l].t) : r.tfar;
-      setPacketLane(boxRays, l, r.origin, r.direction, r.tnear, tfar);
+      setPacketLaneDirection(boxRays, l, r.origin, r.direction, r.tnear, tfar);
       coherent |= 1u << l;
     }
     setPacketRows(boxRays, signs);
     fillUnusedLanes(boxRays, coherent, firstLane);
+    setPacketReciprocals(boxRays);
     walkLanes = coherent;
     return coherent;
   }
