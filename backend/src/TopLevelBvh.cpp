@@ -7,6 +7,7 @@
 #include <new>
 
 #include "BvhAccel.h"
+#include "PacketObjectRays.h"
 #include "PacketRays.h"
 
 namespace tg::detail {
@@ -119,19 +120,22 @@ struct TopLevelPacketWalk {
   template <class Tfar>
   ObjectRayPacket& objectPacket(const InstanceRecord& inst, unsigned lanes, const Tfar& tfar) {
     if (!inst.identity) {
-      ObjectRayPacket& packet = mapped.get();
+      float limits[kRayPacketSize];
       for (unsigned m = lanes; m != 0; m &= m - 1) {
         const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-        packet.rays[l] = objectRayFor(inst, rays[l], tfar(l));
+        limits[l] = tfar(l);
       }
-      return packet;
+      mapPacketToObject(inst, rays, lanes, limits, mapped.get());
+      return mapped.get();
     }
     ObjectRayPacket& packet = identity.get();
     if (!identityReady) {
+      float limits[kRayPacketSize];
       for (unsigned m = walkLanes; m != 0; m &= m - 1) {
         const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-        packet.rays[l] = objectRayFor(inst, rays[l], rays[l].tfar);
+        limits[l] = rays[l].tfar;
       }
+      mapPacketToObject(inst, rays, walkLanes, limits, packet);
       identityReady = true;
     }
     for (unsigned m = lanes; m != 0; m &= m - 1) {

@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 
+#include "PacketObjectRays.h"
 #include "TestGeometry.h"
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/backend/Simd.h"
@@ -242,6 +243,60 @@ BOOST_AUTO_TEST_CASE(flat_packets_equal_single_rays) {
 
 BOOST_AUTO_TEST_CASE(instanced_packets_equal_single_rays) {
   checkAllKernels(true, 77);
+}
+
+bool sameBits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+/// Every field of two object rays, bit for bit (padding aside).
+bool sameObjectRay(const ObjectRay& a, const ObjectRay& b) {
+  bool same = a.wt.kx == b.wt.kx && a.wt.ky == b.wt.ky && a.wt.kz == b.wt.kz &&
+              sameBits(a.wt.tnear, b.wt.tnear) && sameBits(a.wt.sx, b.wt.sx) &&
+              sameBits(a.wt.sy, b.wt.sy) && sameBits(a.wt.sz, b.wt.sz) &&
+              sameBits(a.tfar, b.tfar) && a.instanceId == b.instanceId && a.objectId == b.objectId;
+  for (std::size_t c = 0; c < 3; ++c) {
+    same = same && sameBits(a.wt.origin[c], b.wt.origin[c]) &&
+           sameBits(a.wt.direction[c], b.wt.direction[c]) &&
+           sameBits(a.wt.originD[c], b.wt.originD[c]) &&
+           sameBits(a.wt.directionD[c], b.wt.directionD[c]) &&
+           sameBits(a.inverseDirection[c], b.inverseDirection[c]);
+  }
+  return same;
+}
+
+BOOST_AUTO_TEST_CASE(packet_object_rays_equal_single_mapping) {
+  // The packet walk maps its lanes into an instance with vector divisions; each lane must be the
+  // object ray the single-ray walk builds, for identity and transformed instances alike, with
+  // zero direction components of either sign among them.
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<float> coord(-50.0f, 50.0f);
+  for (int trial = 0; trial < 200; ++trial) {
+    InstanceRecord inst;
+    inst.identity = trial % 3 == 0;
+    if (!inst.identity) inst.worldToObjectD = *randomTransform(rng, 20.0, true).inverse();
+    inst.instanceId = static_cast<std::uint32_t>(trial);
+    inst.objectId = static_cast<std::uint32_t>(trial / 2);
+    Ray rays[kRayPacketSize];
+    float tfar[kRayPacketSize];
+    for (unsigned l = 0; l < kRayPacketSize; ++l) {
+      rays[l].origin = {coord(rng), coord(rng), coord(rng)};
+      rays[l].direction = {coord(rng), coord(rng), coord(rng)};
+      if ((trial + l) % 5 == 0) rays[l].direction.x = 0.0f;
+      if ((trial + l) % 7 == 0) rays[l].direction.y = -0.0f;
+      rays[l].tnear = static_cast<float>(l) * 0.25f;
+      tfar[l] = 10.0f + static_cast<float>(l);
+    }
+    const unsigned all = (1u << kRayPacketSize) - 1u;
+    const unsigned lanes = trial % 4 == 0 ? all : (static_cast<unsigned>(trial) * 37u) & all;
+    ObjectRayPacket packet;
+    detail::mapPacketToObject(inst, rays, lanes, tfar, packet);
+    for (unsigned l = 0; l < kRayPacketSize; ++l) {
+      if (!(lanes & (1u << l))) continue;
+      BOOST_TEST(sameObjectRay(packet.rays[l], objectRayFor(inst, rays[l], tfar[l])),
+                 "trial " << trial << " lane " << l);
+    }
+  }
 }
 
 BOOST_AUTO_TEST_CASE(packets_match_reference) {
