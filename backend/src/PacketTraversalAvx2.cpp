@@ -13,6 +13,8 @@ namespace tg::detail {
 namespace {
 
 struct Avx2NodeTest : Avx8LaneOps {
+  /// Eight-lane loads cost as much as keeping them: no per-walk state.
+  explicit Avx2NodeTest(const PacketBoxRays&) {}
   static void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
                    float entry[4][kPacketLanes]) {
     const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));

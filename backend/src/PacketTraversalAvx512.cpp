@@ -4,11 +4,12 @@
 #include "PacketKernel.h"
 
 #if defined(__AVX512F__)
-// GCC 12's AVX-512 intrinsics trip -Wmaybe-uninitialized on their own internal placeholder
-// operands once inlined (GCC bug 105593, fixed in GCC 13); the warning says nothing about
-// this file's code.
+// GCC 12's AVX-512 intrinsics trip -Wmaybe-uninitialized and -Wuninitialized on their own
+// internal placeholder operands once inlined (GCC bug 105593, fixed in GCC 13); the warnings
+// say nothing about this file's code.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #endif
 #include <immintrin.h>
 
@@ -30,16 +31,24 @@ inline __m512 slotPair(const float* row, int s) {
 }
 
 struct Avx512NodeTest : Avx8LaneOps {
-  static void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
-                   float entry[4][kPacketLanes]) {
-    const __m512i absMask = _mm512_set1_epi32(0x7FFFFFFF);
-    const __m512 slack = _mm512_set1_ps(kBvhIntervalSlack);
-    const __m512 tnear = duplicateLanes(rays.tnear), tfar = duplicateLanes(rays.tfar);
-    __m512 origin[3], reciprocal[3];
+  /// The rays' fixed values with their lanes duplicated into both halves, once per walk: the
+  /// permutes would otherwise be a quarter of every node test. tfar changes during the walk and
+  /// is read per node.
+  explicit Avx512NodeTest(const PacketBoxRays& rays) : tnear(duplicateLanes(rays.tnear)) {
     for (int a = 0; a < 3; ++a) {
       origin[a] = duplicateLanes(rays.origin[a]);
       reciprocal[a] = duplicateLanes(rays.reciprocal[a]);
     }
+  }
+
+  __m512 tnear;
+  __m512 origin[3], reciprocal[3];
+
+  void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
+            float entry[4][kPacketLanes]) const {
+    const __m512i absMask = _mm512_set1_epi32(0x7FFFFFFF);
+    const __m512 slack = _mm512_set1_ps(kBvhIntervalSlack);
+    const __m512 tfar = duplicateLanes(rays.tfar);
     for (int s = 0; s < 4; s += 2) {
       __m512 tmin = tnear, tmax = tfar;
       for (int a = 0; a < 3; ++a) {

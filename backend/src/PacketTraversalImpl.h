@@ -2,7 +2,8 @@
 // translation unit includes this file after defining its node test. Everything here has
 // internal linkage (see PacketKernel.h for why). Internal header: not installed.
 //
-// NodeTest::test(node, rays, lanes, hit, entry) tests the four child boxes of `node` against
+// NodeTest(rays) is made once per walk and may keep what of the rays stays fixed during it (all
+// but tfar); its test(node, rays, lanes, hit, entry) tests the four child boxes of `node` against
 // the lanes in `lanes` and writes, per slot, the lanes that hit it (hit[s]) and each lane's
 // widened entry distance (entry[s][lane]), with exactly the arithmetic of intersectBvh4Node.
 // NodeTest also provides the lane operations of ScalarLaneOps (by deriving from it or from a
@@ -56,6 +57,8 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
   };
   Entry stack[3 * kBvh4MaxDepth + 4];
   int stackSize = 0;
+  // Per-walk state of the node test: what of the rays stays fixed during the walk (all but tfar).
+  const NodeTest nodeTest(rays);
   unsigned active = lanes, occluded = 0;
   std::uint32_t child = 0, count = 0;
   unsigned current = lanes;
@@ -73,7 +76,7 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
       const Bvh4Node& node = nodes[child];
       unsigned hit[4];
       alignas(64) float entry[4][kPacketLanes];
-      NodeTest::test(node, rays, current, hit, entry);
+      nodeTest.test(node, rays, current, hit, entry);
       int order[4];
       float key[4];
       int n = 0;

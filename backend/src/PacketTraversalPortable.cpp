@@ -11,6 +11,8 @@ namespace tg::detail {
 namespace {
 
 struct PortableNodeTest : ScalarLaneOps {
+  /// No per-walk state.
+  explicit PortableNodeTest(const PacketBoxRays&) {}
   static void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
                    float entry[4][kPacketLanes]) {
 #if TG_BVH4_SSE
