@@ -31,6 +31,9 @@ constexpr int kMedianDepth = 32;
 /// BinSet::addInterleaved); below it, preparing and merging the second set costs more.
 constexpr std::size_t kInterleaveMin = 256;
 
+/// Primitives per extra bin beyond four in binCountFor.
+constexpr std::size_t kPrimsPerBin = 20;
+
 /// A contiguous range of primitives with its bounds and the bounds of its centroids (stored as
 /// lower + upper: twice the centre, which saves a multiplication and orders the same).
 struct Range {
@@ -48,10 +51,26 @@ struct Split {
   int bin = 0;       ///< Binned: primitives in bins [0, bin) go left
   float scale = 0;   ///< Binned: bins per unit of centroid coordinate
   float origin = 0;  ///< Binned: centroid coordinate of bin 0
+  /// Binned: bounds of the two sides, the unions of their bins (exact, as the bins are), so the
+  /// partition only gathers the centroid bounds.
+  SseBox leftBounds, rightBounds;
 };
 
 inline float centroid(const BvhPrim& p, int axis) {
   return p.lower[axis] + p.upper[axis];
+}
+
+/// Grows the centroid bounds of the side `p` goes to, without branching on the side: lane
+/// masks pick the centroid for one side and the empty corner for the other. Sides are random
+/// at the top of the tree, so a branch on them mispredicts half of the time.
+inline void addCentroid(const BvhPrim& p, bool isLeft, SseBox& lc, SseBox& rc) {
+  const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
+  const __m128 negInf = _mm_set1_ps(-std::numeric_limits<float>::infinity());
+  const __m128 c = _mm_add_ps(primLower(p), primUpper(p));
+  const __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-static_cast<int>(isLeft)));
+  const __m128 cl = _mm_and_ps(m, c), cr = _mm_andnot_ps(m, c);
+  lc.extend(_mm_or_ps(cl, _mm_andnot_ps(m, inf)), _mm_or_ps(cl, _mm_andnot_ps(m, negInf)));
+  rc.extend(_mm_or_ps(cr, _mm_and_ps(m, inf)), _mm_or_ps(cr, _mm_and_ps(m, negInf)));
 }
 
 /// Bounds and centroid bounds of a range, in parallel when it is large. Min and max are exact,
@@ -163,6 +182,13 @@ class Builder {
     }
   }
 
+  /// Bins for a range of `n` primitives: few for small ranges, whose sweep and bin reset would
+  /// otherwise cost more than binning their primitives, growing to bins_ at a few hundred.
+  int binCountFor(std::size_t n) const {
+    const std::size_t grown = 4 + n / kPrimsPerBin;
+    return static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(bins_), grown));
+  }
+
   /// Chooses how `r` (a child at BVH4 level `depth`) is split, or that it is a leaf.
   Split decide(const Range& r, int depth) const {
     const std::size_t n = r.count();
@@ -176,8 +202,7 @@ class Builder {
     median.axis = maxDimension(extent);
     if (depth >= kMedianDepth) return mayBeLeaf ? leaf : median;
 
-    // More bins than primitives only adds empty bins to sweep.
-    const int binCount = std::min(bins_, static_cast<int>(std::max<std::size_t>(n, 4)));
+    const int binCount = binCountFor(n);
     unsigned active = 0;
     alignas(16) float origin[4] = {}, scale[4] = {};
     for (int a = 0; a < 3; ++a) {
@@ -208,6 +233,10 @@ class Builder {
     best.bin = found.bin;
     best.scale = scale[found.axis];
     best.origin = origin[found.axis];
+    for (int b = 0; b < binCount; ++b) {
+      SseBox& side = b < found.bin ? best.leftBounds : best.rightBounds;
+      side.extend(bins.box[found.axis][b].lower, bins.box[found.axis][b].upper);
+    }
     if (mayBeLeaf) {
       const double area = r.bounds.area();
       // A range without area (a point or a segment) gives the SAH nothing to weigh: small
@@ -234,28 +263,16 @@ class Builder {
       // right side, and the boundary advances when it goes left. Sides are random at the top
       // of the tree, so a partition that branches on them mispredicts half of the time.
       // [r.begin, mid) goes left and [mid, i) right.
-      const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
-      const __m128 negInf = _mm_set1_ps(-std::numeric_limits<float>::infinity());
-      // Lane masks pick the primitive's corner for one side and the empty corner for the other.
-      const auto pick = [](__m128 mask, __m128 a, __m128 b) {
-        return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
-      };
-      SseBox lb, lc, rb, rc;
+      SseBox lc, rc;
       mid = r.begin;
       for (std::size_t i = r.begin; i < r.end; ++i) {
         const bool isLeft = goesLeft(p[i]);
-        const __m128 lo = primLower(p[i]), hi = primUpper(p[i]);
-        const __m128 c = _mm_add_ps(lo, hi);
-        const __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-static_cast<int>(isLeft)));
-        lb.extend(pick(m, lo, inf), pick(m, hi, negInf));
-        lc.extend(pick(m, c, inf), pick(m, c, negInf));
-        rb.extend(pick(m, inf, lo), pick(m, negInf, hi));
-        rc.extend(pick(m, inf, c), pick(m, negInf, c));
+        addCentroid(p[i], isLeft, lc, rc);
         std::swap(p[i], p[mid]);
         mid += isLeft ? 1 : 0;
       }
-      left = {r.begin, mid, lb, lc};
-      right = {mid, r.end, rb, rc};
+      left = {r.begin, mid, split.leftBounds, lc};
+      right = {mid, r.end, split.rightBounds, rc};
       return;
     }
     // Median: ordered by centroid, then id, so that the halves do not depend on the input order
