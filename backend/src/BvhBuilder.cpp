@@ -256,19 +256,24 @@ class Builder {
     BvhPrim* p = prims_.data();
     std::size_t mid = 0;
     if (split.kind == Split::Kind::Binned) {
-      const auto goesLeft = [&](const BvhPrim& prim) {
-        return binOf(centroid(prim, split.axis), split.origin, split.scale, split.bins) < split.bin;
+      // The split's fields as locals: the stores into the primitives could alias them, and
+      // the compiler would reload them for every primitive.
+      const int axis = split.axis, bins = split.bins, bin = split.bin;
+      const float origin = split.origin, scale = split.scale;
+      const auto goesLeft = [=](const BvhPrim& prim) {
+        return binOf(centroid(prim, axis), origin, scale, bins) < bin;
       };
+      const std::size_t end = r.end;
       // Branch-free Lomuto partition: every primitive is swapped with the first one of the
       // right side, and the boundary advances when it goes left. Sides are random at the top
       // of the tree, so a partition that branches on them mispredicts half of the time.
       // [r.begin, mid) goes left and [mid, i) right.
       SseBox lc, rc;
       mid = r.begin;
-      for (std::size_t i = r.begin; i < r.end; ++i) {
+      for (std::size_t i = r.begin; i < end; ++i) {
         const bool isLeft = goesLeft(p[i]);
         addCentroid(p[i], isLeft, lc, rc);
-        std::swap(p[i], p[mid]);
+        swapPrims(p[i], p[mid]);
         mid += isLeft ? 1 : 0;
       }
       left = {r.begin, mid, split.leftBounds, lc};
