@@ -61,17 +61,39 @@ inline float centroid(const BvhPrim& p, int axis) {
   return p.lower[axis] + p.upper[axis];
 }
 
-/// Grows the centroid bounds of the side `p` goes to, without branching on the side: lane
-/// masks pick the centroid for one side and the empty corner for the other. Sides are random
-/// at the top of the tree, so a branch on them mispredicts half of the time.
-inline void addCentroid(const BvhPrim& p, bool isLeft, SseBox& lc, SseBox& rc) {
+/// Grows the centroid bounds of the side the centroid `c` goes to, without branching on the
+/// side: `m` (all ones: left, zero: right) picks the centroid for one side and the empty corner
+/// for the other. Sides are random at the top of the tree, so a branch on them mispredicts half
+/// of the time.
+inline void addCentroid(__m128 c, __m128 m, SseBox& lc, SseBox& rc) {
   const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
   const __m128 negInf = _mm_set1_ps(-std::numeric_limits<float>::infinity());
-  const __m128 c = _mm_add_ps(primLower(p), primUpper(p));
-  const __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-static_cast<int>(isLeft)));
   const __m128 cl = _mm_and_ps(m, c), cr = _mm_andnot_ps(m, c);
   lc.extend(_mm_or_ps(cl, _mm_andnot_ps(m, inf)), _mm_or_ps(cl, _mm_andnot_ps(m, negInf)));
   rc.extend(_mm_or_ps(cr, _mm_and_ps(m, inf)), _mm_or_ps(cr, _mm_and_ps(m, negInf)));
+}
+
+/// Branch-free Lomuto partition of prims[begin, end) by a binned split on axis `Axis`: every
+/// primitive is swapped with the first one of the right side, and the boundary advances when it
+/// goes left. The side comes from the centroid the bounds need anyway, binned as
+/// BinMapping::bins does (so exactly as the binning did) with its lane broadcast as the mask.
+/// Returns the first primitive of the right side.
+template <int Axis>
+std::size_t partitionBinned(BvhPrim* p, std::size_t begin, std::size_t end, float origin,
+                            float scale, int bins, int bin, SseBox& lc, SseBox& rc) {
+  const BinMapping map{_mm_set1_ps(origin), _mm_set1_ps(scale),
+                       _mm_set1_ps(static_cast<float>(bins - 1))};
+  const __m128i split = _mm_set1_epi32(bin);
+  std::size_t mid = begin;
+  for (std::size_t i = begin; i < end; ++i) {
+    const __m128 lo = primLower(p[i]), hi = primUpper(p[i]);
+    const __m128i left = _mm_cmplt_epi32(map.bins(lo, hi), split);
+    const __m128i m = _mm_shuffle_epi32(left, Axis * 0x55);
+    addCentroid(_mm_add_ps(lo, hi), _mm_castsi128_ps(m), lc, rc);
+    swapPrims(p[i], p[mid]);
+    mid += static_cast<std::size_t>(_mm_cvtsi128_si32(m) & 1);
+  }
+  return mid;
 }
 
 /// Bounds and centroid bounds of a range, in parallel when it is large. Min and max are exact,
@@ -282,26 +304,11 @@ class Builder {
     BvhPrim* p = prims_.data();
     std::size_t mid = 0;
     if (split.kind == Split::Kind::Binned) {
-      // The split's fields as locals: the stores into the primitives could alias them, and
-      // the compiler would reload them for every primitive.
-      const int axis = split.axis, bins = split.bins, bin = split.bin;
-      const float origin = split.origin, scale = split.scale;
-      const auto goesLeft = [=](const BvhPrim& prim) {
-        return binOf(centroid(prim, axis), origin, scale, bins) < bin;
-      };
-      const std::size_t end = r.end;
-      // Branch-free Lomuto partition: every primitive is swapped with the first one of the
-      // right side, and the boundary advances when it goes left. Sides are random at the top
-      // of the tree, so a partition that branches on them mispredicts half of the time.
-      // [r.begin, mid) goes left and [mid, i) right.
       SseBox lc, rc;
-      mid = r.begin;
-      for (std::size_t i = r.begin; i < end; ++i) {
-        const bool isLeft = goesLeft(p[i]);
-        addCentroid(p[i], isLeft, lc, rc);
-        swapPrims(p[i], p[mid]);
-        mid += isLeft ? 1 : 0;
-      }
+      const auto partition = split.axis == 0   ? partitionBinned<0>
+                             : split.axis == 1 ? partitionBinned<1>
+                                               : partitionBinned<2>;
+      mid = partition(p, r.begin, r.end, split.origin, split.scale, split.bins, split.bin, lc, rc);
       left = {r.begin, mid, split.leftBounds, lc};
       right = {mid, r.end, split.rightBounds, rc};
       return;
