@@ -352,7 +352,8 @@ class Builder {
         }
       }
       if (widest < 0) break;
-      const Child parent = children[widest];
+      // apply reads the parent before its slot is overwritten below.
+      const Child& parent = children[widest];
       Range left, right;
       apply(parent.range, parent.split, left, right);
       children[widest] = {left, decide(left, depth + 1)};
@@ -360,7 +361,7 @@ class Builder {
     }
 
     Bvh4Node node = Bvh4Node::makeEmpty();
-    Child inner[4];
+    int innerSlot[4];  // slots of the inner children, which are built from children[] in place
     std::uint32_t innerIndex[4];
     int innerCount = 0;
     std::size_t leafCount = 0;
@@ -385,7 +386,7 @@ class Builder {
         const std::uint32_t childIndex = nextIndex++;
         node.child[c] = childIndex;
         node.count[c] = 0;
-        inner[innerCount] = child;
+        innerSlot[innerCount] = c;
         innerIndex[innerCount++] = childIndex;
         large = large || child.range.count() > options_.parallelThreshold;
       }
@@ -393,7 +394,8 @@ class Builder {
     if (leafCount != 0) leaves_.fetch_add(leafCount, std::memory_order_relaxed);
     out_.nodes[index] = node;
     const auto recurse = [&](int k) {
-      buildNode(innerIndex[k], inner[k].range, inner[k].split, depth + 1);
+      const Child& child = children[innerSlot[k]];
+      buildNode(innerIndex[k], child.range, child.split, depth + 1);
     };
     if (large && innerCount > 1) {
       tbb::parallel_for(0, innerCount, recurse);
