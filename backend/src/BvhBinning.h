@@ -85,8 +85,8 @@ struct BinMapping {
   }
 };
 
-/// Scalar bin of one centroid coordinate: the same operations as BinMapping::bins, on one lane
-/// (so without a branch on the clamps, which the partition would mispredict).
+/// Scalar bin of one centroid coordinate, for the binning along one axis: the same operations
+/// as BinMapping::bins on one lane, so both give the same bins (and the clamps do not branch).
 inline int binOf(float c, float origin, float scale, int bins) {
   __m128 f = _mm_mul_ss(_mm_sub_ss(_mm_set_ss(c), _mm_set_ss(origin)), _mm_set_ss(scale));
   f = _mm_max_ss(f, _mm_setzero_ps());

@@ -298,8 +298,9 @@ class Builder {
     return found;
   }
 
-  /// Applies `split` to `r`, giving its two parts with their bounds. The binned partition
-  /// gathers the bounds of both sides as it moves primitives: one pass instead of three.
+  /// Applies `split` to `r`, giving its two parts with their bounds. A binned split knows the
+  /// sides' bounds from its bins; the partition gathers their centroid bounds as it moves
+  /// primitives, so no pass over a side follows.
   void apply(const Range& r, const Split& split, Range& left, Range& right) {
     BvhPrim* p = prims_.data();
     std::size_t mid = 0;
