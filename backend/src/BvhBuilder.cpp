@@ -420,11 +420,28 @@ void buildBvh4(std::vector<BvhPrim>& prims, const BvhBuildOptions& options, BvhB
   Builder(prims, options, out).build();
 }
 
+namespace {
+
+/// Surface areas of the four slot boxes of `node`, each as Box3f::area computes it (0 for an
+/// empty box), four at a time from the node's slot-major bounds.
+void slotAreas(const Bvh4Node& node, float (&area)[4]) {
+  const __m128 lx = _mm_load_ps(node.bounds[0]), ux = _mm_load_ps(node.bounds[1]);
+  const __m128 ly = _mm_load_ps(node.bounds[2]), uy = _mm_load_ps(node.bounds[3]);
+  const __m128 lz = _mm_load_ps(node.bounds[4]), uz = _mm_load_ps(node.bounds[5]);
+  const __m128 dx = _mm_sub_ps(ux, lx), dy = _mm_sub_ps(uy, ly), dz = _mm_sub_ps(uz, lz);
+  const __m128 sum =
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dy), _mm_mul_ps(dy, dz)), _mm_mul_ps(dz, dx));
+  const __m128 empty =
+      _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(lx, ux), _mm_cmpgt_ps(ly, uy)), _mm_cmpgt_ps(lz, uz));
+  _mm_storeu_ps(area, _mm_andnot_ps(empty, _mm_mul_ps(_mm_set1_ps(2.0f), sum)));
+}
+
+}  // namespace
+
 double bvh4SahCost(const Bvh4NodeArray& nodes, double traversalCost, double intersectionCost) {
   if (nodes.empty()) return 0.0;
   const double rootArea = nodes[0].unionBounds().area();
   const bool flat = !(rootArea > 0.0);
-  const auto weight = [&](const Box3f& b) { return flat ? 1.0 : double(b.area()); };
   // Depth first from the root, so that the sum is taken in the same order for the same tree
   // whatever numbering a parallel build gave its nodes.
   double sum = traversalCost * (flat ? 1.0 : rootArea);
@@ -433,9 +450,11 @@ double bvh4SahCost(const Bvh4NodeArray& nodes, double traversalCost, double inte
   stack[size++] = 0;
   while (size > 0) {
     const Bvh4Node& node = nodes[stack[--size]];
+    float area[4];
+    slotAreas(node, area);
     for (int s = 0; s < 4; ++s) {
       if (node.child[s] == kInvalidId) continue;
-      const double w = weight(node.slotBounds(s));
+      const double w = flat ? 1.0 : double(area[s]);
       if (node.count[s] == 0) {
         sum += traversalCost * w;
         stack[size++] = node.child[s];
