@@ -13,6 +13,15 @@
 
 namespace tg::detail {
 
+/// dx * dy + dy * dz + dz * dx of the box [lo, hi] in lanes 0-2, summed in the order of
+/// Box3f::area and without a round trip through memory (the sweep takes two per bin and axis).
+inline float halfArea(__m128 lo, __m128 hi) {
+  const __m128 d = _mm_sub_ps(hi, lo);
+  const __m128 p = _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1)));
+  const __m128 s = _mm_add_ss(p, _mm_shuffle_ps(p, p, _MM_SHUFFLE(1, 1, 1, 1)));
+  return _mm_cvtss_f32(_mm_add_ss(s, _mm_movehl_ps(p, p)));
+}
+
 /// A box in two SSE registers (lane 3 unused).
 struct SseBox {
   /// Minimum corner in lanes 0-2.
@@ -36,16 +45,20 @@ struct SseBox {
   }
   /// Surface area, as Box3f::area() computes it (0 when empty).
   float area() const {
-    alignas(16) float d[4];
-    _mm_store_ps(d, _mm_sub_ps(upper, lower));
-    if (d[0] < 0.0f || d[1] < 0.0f || d[2] < 0.0f) return 0.0f;
-    return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+    if ((_mm_movemask_ps(_mm_cmplt_ps(upper, lower)) & 7) != 0) return 0.0f;
+    return 2.0f * halfArea(lower, upper);
   }
+  /// Surface area of a box known not to be empty.
+  float nonEmptyArea() const { return 2.0f * halfArea(lower, upper); }
 };
 
-/// Loads a primitive's box corners (lane 3 holds the id and padding bits, never read).
+/// Loads a primitive's box corners with lane 3 cleared. In memory lane 3 of the lower corner
+/// holds the id, whose bits read as a denormal float: arithmetic on it (the centroid sums of
+/// binning and partitioning) would take a microcode assist on every primitive, which made
+/// binning about three times slower. The upper corner's lane 3 is the zero padding.
 inline __m128 primLower(const BvhPrim& p) {
-  return _mm_load_ps(p.lower);
+  const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+  return _mm_and_ps(_mm_load_ps(p.lower), xyz);
 }
 inline __m128 primUpper(const BvhPrim& p) {
   return _mm_load_ps(p.upper);
@@ -72,13 +85,25 @@ struct BinMapping {
   }
 };
 
-/// Scalar bin of one centroid coordinate: the same operations as BinMapping::bins.
+/// Scalar bin of one centroid coordinate, for the binning along one axis: the same operations
+/// as BinMapping::bins on one lane, so both give the same bins (and the clamps do not branch).
 inline int binOf(float c, float origin, float scale, int bins) {
-  float f = (c - origin) * scale;
-  f = f > 0.0f ? f : 0.0f;
-  const auto last = static_cast<float>(bins - 1);
-  f = f < last ? f : last;
-  return static_cast<int>(f);
+  __m128 f = _mm_mul_ss(_mm_sub_ss(_mm_set_ss(c), _mm_set_ss(origin)), _mm_set_ss(scale));
+  f = _mm_max_ss(f, _mm_setzero_ps());
+  f = _mm_min_ss(f, _mm_set_ss(static_cast<float>(bins - 1)));
+  return _mm_cvttss_si32(f);
+}
+
+/// Swaps two primitives as two 16-byte halves each. A member-wise swap stores them in pieces,
+/// and a partition that reloads a slot it has just written then waits for store forwarding
+/// to fail on every such pair.
+inline void swapPrims(BvhPrim& a, BvhPrim& b) {
+  const __m128 aLo = _mm_load_ps(a.lower), aHi = _mm_load_ps(a.upper);
+  const __m128 bLo = _mm_load_ps(b.lower), bHi = _mm_load_ps(b.upper);
+  _mm_store_ps(a.lower, bLo);
+  _mm_store_ps(a.upper, bHi);
+  _mm_store_ps(b.lower, aLo);
+  _mm_store_ps(b.upper, aHi);
 }
 
 /// Bin boxes and counts of one range on the three axes. Only the first `used` bins are
@@ -186,7 +211,7 @@ inline BinSplit sweepBins(const BinSet& bins, unsigned active) {
     for (int b = n - 1; b > 0; --b) {
       acc.extend(bins.box[a][b].lower, bins.box[a][b].upper);
       count += bins.count[a][b];
-      rightCost[b] = count == 0 ? -1.0f : acc.area() * static_cast<float>(count);
+      rightCost[b] = count == 0 ? -1.0f : acc.nonEmptyArea() * static_cast<float>(count);
     }
     acc = SseBox{};
     count = 0;
@@ -194,7 +219,7 @@ inline BinSplit sweepBins(const BinSet& bins, unsigned active) {
       acc.extend(bins.box[a][b - 1].lower, bins.box[a][b - 1].upper);
       count += bins.count[a][b - 1];
       if (count == 0 || rightCost[b] < 0.0f) continue;
-      const float cost = acc.area() * static_cast<float>(count) + rightCost[b];
+      const float cost = acc.nonEmptyArea() * static_cast<float>(count) + rightCost[b];
       if (cost < best.cost) {
         best.cost = cost;
         best.axis = a;
