@@ -19,17 +19,16 @@ void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
     const Box3f& b = instances[i].worldBounds;
     if (!b.empty()) prims_.push_back(BvhPrim::make(b, static_cast<std::uint32_t>(i)));
   }
-  BvhBuildOptions options;
+  TopLevelBuildOptions options;
   // Entering an instance means a matrix transform and a descent into its object: several node
   // visits' worth. Leaves stay small; only boxes that no plane separates (coincident
   // instances) share a leaf by choice.
   options.bins = 16;
-  options.allAxes = false;
   options.maxLeafSize = 2;
   options.traversalCost = 1.0f;
   options.intersectionCost = 4.0f;
   options.parallelThreshold = 8192;
-  buildBvh4(prims_, options, bvh_);
+  builder_.build(prims_, options, bvh_);
   refs_.resize(prims_.size());
   for (std::size_t k = 0; k < prims_.size(); ++k) refs_[k] = prims_[k].id;
   stats_.leaves = bvh_.leaves;
