@@ -33,7 +33,7 @@ constexpr std::size_t kBlock = 2048;
 constexpr std::size_t kInterleaveMin = 64;
 
 /// Ranges of at most this many primitives are split without bins (Builder::splitSmall).
-constexpr int kSmall = 8;
+constexpr int kSmall = 16;
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
@@ -225,13 +225,13 @@ class Builder {
       node.setBounds(0, root.bounds.box());
       node.child[0] = 0;
       node.count[0] = static_cast<std::uint32_t>(root.count());
-      leaves_.store(1, std::memory_order_relaxed);
+      out_.leaves = 1;
     } else {
-      buildNode(0, top, 0);
+      const Counts counts = buildNode(0, top, 0);
+      out_.leaves = counts.leaves;
+      out_.maxDepth = counts.maxDepth;
     }
     out_.nodes.resize(nextNode_.load(std::memory_order_relaxed));
-    out_.leaves = leaves_.load(std::memory_order_relaxed);
-    out_.maxDepth = maxDepth_.load(std::memory_order_relaxed);
   }
 
  private:
@@ -530,11 +530,18 @@ class Builder {
     right = makeRange(mid, r.end);
   }
 
-  void buildNode(std::uint32_t index, const Child& first, int depth) {
-    std::size_t seen = maxDepth_.load(std::memory_order_relaxed);
-    while (seen < static_cast<std::size_t>(depth) &&
-           !maxDepth_.compare_exchange_weak(seen, static_cast<std::size_t>(depth))) {
+  /// Leaf slots and deepest level of a subtree, summed on the way back up: shared atomic
+  /// counters would cost a locked operation per node, contended between the threads.
+  struct Counts {
+    std::size_t leaves = 0;
+    std::size_t maxDepth = 0;
+    void merge(const Counts& o) {
+      leaves += o.leaves;
+      maxDepth = std::max(maxDepth, o.maxDepth);
     }
+  };
+
+  Counts buildNode(std::uint32_t index, const Child& first, int depth) {
     Child children[4];
     children[0] = first;
     int n = 1;
@@ -586,14 +593,21 @@ class Builder {
         large = large || child.range.count() > options_.parallelThreshold;
       }
     }
-    if (leafCount != 0) leaves_.fetch_add(leafCount, std::memory_order_relaxed);
     out_.nodes[index] = node;
-    const auto recurse = [&](int k) { buildNode(innerIndex[k], children[inner[k]], depth + 1); };
+    Counts counts;
+    counts.leaves = leafCount;
+    counts.maxDepth = static_cast<std::size_t>(depth);
     if (large && innerCount > 1) {
-      tbb::parallel_for(0, innerCount, recurse);
+      Counts below[4];
+      tbb::parallel_for(0, innerCount, [&](int k) {
+        below[k] = buildNode(innerIndex[k], children[inner[k]], depth + 1);
+      });
+      for (int k = 0; k < innerCount; ++k) counts.merge(below[k]);
     } else {
-      for (int k = 0; k < innerCount; ++k) recurse(k);
+      for (int k = 0; k < innerCount; ++k)
+        counts.merge(buildNode(innerIndex[k], children[inner[k]], depth + 1));
     }
+    return counts;
   }
 
   std::vector<BvhPrim>& prims_;
@@ -602,8 +616,6 @@ class Builder {
   const int bins_;
   BvhBuildResult& out_;
   std::atomic<std::uint32_t> nextNode_{0};
-  std::atomic<std::size_t> leaves_{0};
-  std::atomic<std::size_t> maxDepth_{0};
 };
 
 }  // namespace
