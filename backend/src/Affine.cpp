@@ -1,5 +1,6 @@
 #include "tracegraph/backend/Affine.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -78,13 +79,15 @@ Box3<T> Affine3<T>::transformBox(const Box3<T>& b) const {
   // boxes"). The terms are added in transformPoint's order, and rounded addition never
   // decreases when an operand grows, so the sums are bit for bit the extreme coordinates of
   // the eight transformed corners, at a third of the work.
+  const bool finite = tg::isFinite(b.lower) && tg::isFinite(b.upper);
   for (int r = 0; r < 3; ++r) {
     T lo = T(0), hi = T(0);
     for (int c = 0; c < 3; ++c) {
-      const T x = m[r][c] * b.lower[c], y = m[r][c] * b.upper[c];
-      // A zero entry contributes nothing, even for an infinite box (0 * inf would be NaN).
-      const T small = m[r][c] == T(0) ? T(0) : (x < y ? x : y);
-      const T large = m[r][c] == T(0) ? T(0) : (x < y ? y : x);
+      T x = m[r][c] * b.lower[c], y = m[r][c] * b.upper[c];
+      // A zero entry contributes nothing, even for an infinite box (0 * inf would be NaN). The
+      // test stays off the common path: min and max of finite terms need no branch.
+      if (!finite && m[r][c] == T(0)) x = y = T(0);
+      const T small = std::min(x, y), large = std::max(x, y);
       lo = c == 0 ? small : lo + small;
       hi = c == 0 ? large : hi + large;
     }

@@ -218,7 +218,8 @@ class Builder {
     // there are at most as many nodes as primitives.
     out_.nodes.resize(prims_.size());
     nextNode_.store(1, std::memory_order_relaxed);
-    const Child top = makeChild(root, 0);
+    Child top;
+    makeChild(top, root, 0);
     if (top.leaf) {
       Bvh4Node& node = out_.nodes[0];
       node = Bvh4Node::makeEmpty();
@@ -242,11 +243,12 @@ class Builder {
     Range left, right;  ///< set when not a leaf
   };
 
-  Child makeChild(const Range& r, int depth) {
-    Child c;
+  /// Makes `c` the child range `r` at BVH4 level `depth`, in place: a Child returned by value
+  /// would be copied in 16-byte moves right after its one-byte leaf flag was stored, and such
+  /// a load waits for the store instead of being forwarded from it.
+  void makeChild(Child& c, const Range& r, int depth) {
     c.range = r;
     c.leaf = !split(r, depth, c.left, c.right);
-    return c;
   }
 
   /// Bounds and centroid bounds of prims[begin, end), in parallel blocks when it is large
@@ -559,8 +561,8 @@ class Builder {
       }
       if (widest < 0) break;
       const Range left = children[widest].left, right = children[widest].right;
-      children[widest] = makeChild(left, depth + 1);
-      children[n++] = makeChild(right, depth + 1);
+      makeChild(children[widest], left, depth + 1);
+      makeChild(children[n++], right, depth + 1);
     }
 
     Bvh4Node node = Bvh4Node::makeEmpty();
