@@ -11,6 +11,7 @@
 
 #include <emmintrin.h>
 #include <tbb/parallel_for.h>
+#include <xmmintrin.h>
 
 #include <algorithm>
 #include <atomic>
@@ -565,7 +566,25 @@ class Builder {
       makeChild(children[n++], right, depth + 1);
     }
 
-    Bvh4Node node = Bvh4Node::makeEmpty();
+    Bvh4Node& node = out_.nodes[index];
+    // Slot boxes in two 4x4 transposes straight from the registers: lanes x, y, z of a slot's
+    // corners become its column of the planes. Unused slots keep the empty box.
+    __m128 lower[4], upper[4];
+    for (int c = 0; c < 4; ++c) {
+      const Box4 b = c < n ? children[c].range.bounds : Box4::empty();
+      lower[c] = b.lower;
+      upper[c] = b.upper;
+    }
+    _MM_TRANSPOSE4_PS(lower[0], lower[1], lower[2], lower[3]);
+    _MM_TRANSPOSE4_PS(upper[0], upper[1], upper[2], upper[3]);
+    for (int a = 0; a < 3; ++a) {
+      _mm_store_ps(node.bounds[2 * a], lower[a]);
+      _mm_store_ps(node.bounds[2 * a + 1], upper[a]);
+    }
+    for (int c = n; c < 4; ++c) {
+      node.child[c] = kInvalidId;
+      node.count[c] = 0;
+    }
     int inner[4];
     std::uint32_t innerIndex[4];
     int innerCount = 0;
@@ -581,7 +600,6 @@ class Builder {
     bool large = false;
     for (int c = 0; c < n; ++c) {
       const Child& child = children[c];
-      node.setBounds(c, child.range.bounds.box());
       if (child.leaf) {
         node.child[c] = static_cast<std::uint32_t>(child.range.begin);
         node.count[c] = static_cast<std::uint32_t>(child.range.count());
@@ -595,7 +613,6 @@ class Builder {
         large = large || child.range.count() > options_.parallelThreshold;
       }
     }
-    out_.nodes[index] = node;
     Counts counts;
     counts.leaves = leafCount;
     counts.maxDepth = static_cast<std::size_t>(depth);
