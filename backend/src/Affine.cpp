@@ -1,5 +1,6 @@
 #include "tracegraph/backend/Affine.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -73,10 +74,25 @@ template <typename T>
 Box3<T> Affine3<T>::transformBox(const Box3<T>& b) const {
   Box3<T> out;
   if (b.empty()) return out;
-  for (int i = 0; i < 8; ++i) {
-    const Vec3<T> corner{(i & 1) ? b.upper.x : b.lower.x, (i & 2) ? b.upper.y : b.lower.y,
-                         (i & 4) ? b.upper.z : b.lower.z};
-    out.extend(transformPoint(corner));
+  // Per output axis, each term m[r][c] * x takes its smaller value at one end of the box's
+  // c-interval and its larger at the other (Arvo 1990, "Transforming axis-aligned bounding
+  // boxes"). The terms are added in transformPoint's order, and rounded addition never
+  // decreases when an operand grows, so the sums are bit for bit the extreme coordinates of
+  // the eight transformed corners, at a third of the work.
+  const bool finite = tg::isFinite(b.lower) && tg::isFinite(b.upper);
+  for (int r = 0; r < 3; ++r) {
+    T lo = T(0), hi = T(0);
+    for (int c = 0; c < 3; ++c) {
+      T x = m[r][c] * b.lower[c], y = m[r][c] * b.upper[c];
+      // A zero entry contributes nothing, even for an infinite box (0 * inf would be NaN). The
+      // test stays off the common path: min and max of finite terms need no branch.
+      if (!finite && m[r][c] == T(0)) x = y = T(0);
+      const T small = std::min(x, y), large = std::max(x, y);
+      lo = c == 0 ? small : lo + small;
+      hi = c == 0 ? large : hi + large;
+    }
+    out.lower[r] = lo + m[r][3];
+    out.upper[r] = hi + m[r][3];
   }
   return out;
 }

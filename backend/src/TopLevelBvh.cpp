@@ -1,7 +1,11 @@
 // Top-level BVH4: per-frame build over instance world boxes and two-level queries.
 #include "TopLevelBvh.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <new>
@@ -11,31 +15,64 @@
 #include "PacketRays.h"
 
 namespace tg::detail {
+namespace {
+
+/// Instance counts from which the copies into and out of the builder run in parallel.
+constexpr std::size_t kParallelCopy = 16384;
+
+}  // namespace
 
 void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
   const auto start = std::chrono::steady_clock::now();
   instances_ = instances;
   stats_ = {};
   stats_.instances = instances.size();
-  prims_.clear();
-  prims_.reserve(instances.size());
-  for (std::size_t i = 0; i < instances.size(); ++i) {
-    const Box3f& b = instances[i].worldBounds;
-    if (!b.empty()) prims_.push_back(BvhPrim::make(b, static_cast<std::uint32_t>(i)));
+  // Large scenes make the primitives in parallel, at their instance's index; empty boxes (none
+  // from Scene::commit, which leaves out empty objects) are taken out afterwards.
+  const std::size_t n = instances.size();
+  prims_.resize(n);
+  const auto fill = [&](std::size_t begin, std::size_t end) {
+    std::size_t empty = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+      const Box3f& b = instances[i].worldBounds;
+      prims_[i] = BvhPrim::make(b, static_cast<std::uint32_t>(i));
+      empty += b.empty() ? 1 : 0;
+    }
+    return empty;
+  };
+  std::size_t empty = 0;
+  if (n >= kParallelCopy) {
+    std::atomic<std::size_t> total{0};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        total.fetch_add(fill(r.begin(), r.end()), std::memory_order_relaxed);
+                      });
+    empty = total.load(std::memory_order_relaxed);
+  } else {
+    empty = fill(0, n);
   }
-  BvhBuildOptions options;
+  if (empty != 0) std::erase_if(prims_, [](const BvhPrim& p) { return p.box().empty(); });
+  TopLevelBuildOptions options;
   // Entering an instance means a matrix transform and a descent into its object: several node
   // visits' worth. Leaves stay small; only boxes that no plane separates (coincident
   // instances) share a leaf by choice.
   options.bins = 16;
-  options.allAxes = false;
   options.maxLeafSize = 2;
   options.traversalCost = 1.0f;
   options.intersectionCost = 4.0f;
   options.parallelThreshold = 8192;
-  buildBvh4(prims_, options, bvh_);
+  builder_.build(prims_, options, bvh_);
   refs_.resize(prims_.size());
-  for (std::size_t k = 0; k < prims_.size(); ++k) refs_[k] = prims_[k].id;
+  const auto copyIds = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) refs_[k] = prims_[k].id;
+  };
+  if (refs_.size() >= kParallelCopy) {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, refs_.size(), 4096),
+        [&](const tbb::blocked_range<std::size_t>& r) { copyIds(r.begin(), r.end()); });
+  } else {
+    copyIds(0, refs_.size());
+  }
   stats_.leaves = bvh_.leaves;
   stats_.nodes = bvh_.nodes.size() + bvh_.leaves;
   stats_.maxDepth = bvh_.maxDepth;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "BvhBuilder.h"
+#include "TopLevelBvhBuilder.h"
 #include "tracegraph/backend/TopLevelAccel.h"
 
 namespace tg::detail {
@@ -34,6 +35,7 @@ class TopLevelBvh final : public TopLevelAccel {
   BvhBuildResult bvh_;
   std::vector<std::uint32_t> refs_;  ///< instance indices in leaf order
   std::vector<BvhPrim> prims_;       ///< build scratch
+  TopLevelBvhBuilder builder_;
   TopLevelStats stats_;
 };
 

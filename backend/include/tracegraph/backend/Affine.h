@@ -29,13 +29,17 @@ struct Affine3 {
   /// Translation by t.
   static constexpr Affine3 translation(const Vec3<T>& t) {
     Affine3 a;
-    a.m[0][3] = t.x; a.m[1][3] = t.y; a.m[2][3] = t.z;
+    a.m[0][3] = t.x;
+    a.m[1][3] = t.y;
+    a.m[2][3] = t.z;
     return a;
   }
   /// Scaling by s along the axes.
   static constexpr Affine3 scaling(const Vec3<T>& s) {
     Affine3 a;
-    a.m[0][0] = s.x; a.m[1][1] = s.y; a.m[2][2] = s.z;
+    a.m[0][0] = s.x;
+    a.m[1][1] = s.y;
+    a.m[2][2] = s.z;
     return a;
   }
   /// Right-handed rotation by `degrees` about `axis` (normalised here; a zero axis gives identity).
@@ -97,7 +101,10 @@ struct Affine3 {
   bool isSingular() const;
   /// Inverse, or nothing when the matrix is singular or not finite.
   std::optional<Affine3> inverse() const;
-  /// Conservative bounds of a transformed box: the box of its 8 transformed corners.
+  /// Bounds of a transformed box: the box of its 8 transformed corners, bit for bit as
+  /// transformPoint rounds them, computed per matrix term (Arvo) at a third of the cost. An
+  /// empty box gives an empty box; a zero matrix entry ignores the box's extent on that axis,
+  /// so infinite boxes map without NaN unless infinities of both signs meet in one sum.
   Box3<T> transformBox(const Box3<T>& b) const;
 
   /// Exact equality of every entry.
