@@ -9,6 +9,8 @@
 // partition, so the top levels are not a serial pass each.
 #include "TopLevelBvhBuilder.h"
 
+#include "BvhBinning.h"
+
 #include <emmintrin.h>
 #include <tbb/parallel_for.h>
 #include <xmmintrin.h>
@@ -50,25 +52,10 @@ struct Box4 {
     upper = _mm_max_ps(upper, hi);
   }
   void extend(const Box4& b) { extend(b.lower, b.upper); }
-  Box3f box() const {
-    alignas(16) float lo[4], hi[4];
-    _mm_store_ps(lo, lower);
-    _mm_store_ps(hi, upper);
-    return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
-  }
-  /// Surface area, rounded as buildBvh4 computes it, 2 * ((dx dy + dy dz) + dz dx), so that both
-  /// builders weigh splits alike (0 when empty). In registers: a store and reloads of the
-  /// extent would stall on every step of the sweep.
-  float area() const {
-    const __m128 d = _mm_sub_ps(upper, lower);
-    const __m128 negative = _mm_cmplt_ps(d, _mm_setzero_ps());
-    if ((_mm_movemask_ps(negative) & 7) != 0) return 0.0f;
-    // (dx dy, dy dz, dz dx) in lanes 0-2.
-    const __m128 p = _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1)));
-    const __m128 sum01 = _mm_add_ss(p, _mm_shuffle_ps(p, p, _MM_SHUFFLE(1, 1, 1, 1)));
-    const __m128 sum = _mm_add_ss(sum01, _mm_movehl_ps(p, p));
-    return 2.0f * _mm_cvtss_f32(sum);
-  }
+  /// The box as a Box3f.
+  Box3f box() const { return SseBox{lower, upper}.box(); }
+  /// Surface area as SseBox::area computes it, so that both builders weigh splits alike.
+  float area() const { return SseBox{lower, upper}.area(); }
 };
 
 /// A contiguous range of primitives with its bounds and the bounds of its centroids (stored as
@@ -78,23 +65,6 @@ struct Range {
   Box4 bounds, centroids;
   std::size_t count() const { return end - begin; }
 };
-
-inline __m128 primLower(const BvhPrim& p) {
-  return _mm_load_ps(p.lower);
-}
-inline __m128 primUpper(const BvhPrim& p) {
-  return _mm_load_ps(p.upper);
-}
-
-/// Bin of a centroid coordinate; a NaN or an overflowing product lands in the first or the
-/// last bin (the same arithmetic as buildBvh4's binning).
-inline int binOf(float c, float origin, float scale, int bins) {
-  float f = (c - origin) * scale;
-  f = f > 0.0f ? f : 0.0f;
-  const auto last = static_cast<float>(bins - 1);
-  f = f < last ? f : last;
-  return static_cast<int>(f);
-}
 
 /// The bin mapping of one range on its binned axis.
 struct Mapping {
