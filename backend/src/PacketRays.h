@@ -28,20 +28,9 @@ inline unsigned directionSigns(const Vec3f& direction) {
          (direction.z < 0.0f ? 4u : 0u);
 }
 
-/// Writes lane `lane` with the per-ray constants Bvh4Ray computes for the same ray.
-inline void setPacketLane(PacketBoxRays& rays, unsigned lane, const Vec3f& origin,
-                          const Vec3f& direction, float tnear, float tfar) {
-  for (int a = 0; a < 3; ++a) {
-    rays.origin[a][lane] = origin[a];
-    rays.reciprocal[a][lane] =
-        direction[a] == 0.0f ? std::numeric_limits<float>::infinity() : 1.0f / direction[a];
-  }
-  rays.tnear[lane] = tnear;
-  rays.tfar[lane] = tfar;
-}
-
-/// setPacketLane for a ray whose reciprocal direction is already known (1/d per component, +-inf
-/// for +-0, as ObjectRay::inverseDirection holds it): the same lane without three divisions.
+/// Writes lane `lane` with the per-ray constants Bvh4Ray computes for the same ray, from its
+/// reciprocal direction (1/d per component, +-inf for +-0, as ObjectRay::inverseDirection holds
+/// it): a zero component's reciprocal becomes +inf whatever its sign.
 inline void setPacketLaneWithReciprocal(PacketBoxRays& rays, unsigned lane, const Vec3f& origin,
                                         const Vec3f& direction, const Vec3f& reciprocal,
                                         float tnear, float tfar) {
@@ -54,8 +43,9 @@ inline void setPacketLaneWithReciprocal(PacketBoxRays& rays, unsigned lane, cons
   rays.tfar[lane] = tfar;
 }
 
-/// setPacketLane that leaves the lane's direction where its reciprocal goes; after every lane
-/// and fillUnusedLanes, setPacketReciprocals turns all of them into reciprocals at once.
+/// setPacketLaneWithReciprocal for a ray whose reciprocal is not known yet: leaves the lane's
+/// direction where its reciprocal goes; after every lane and fillUnusedLanes,
+/// setPacketReciprocals turns all of them into reciprocals at once.
 inline void setPacketLaneDirection(PacketBoxRays& rays, unsigned lane, const Vec3f& origin,
                                    const Vec3f& direction, float tnear, float tfar) {
   for (int a = 0; a < 3; ++a) {
@@ -66,8 +56,8 @@ inline void setPacketLaneDirection(PacketBoxRays& rays, unsigned lane, const Vec
   rays.tfar[lane] = tfar;
 }
 
-/// Replaces the directions that setPacketLaneDirection left in rays.reciprocal by the values
-/// setPacketLane computes (1/d, +inf for +-0), four lanes per division where SSE is available:
+/// Replaces the directions that setPacketLaneDirection left in rays.reciprocal by Bvh4Ray's
+/// reciprocals (1/d, +inf for +-0), four lanes per division where SSE is available:
 /// a correctly rounded quotient is the same whether computed alone or in a vector.
 inline void setPacketReciprocals(PacketBoxRays& rays) {
 #if defined(__SSE2__)
