@@ -147,10 +147,10 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   prims_.resize(n);
   const TriangleSummary summary = summarise(n, [&](std::size_t i, TriangleSummary& acc) {
     const TriangleVertices t = verticesOf(mesh, i);
-    const bool degenerate = isDegenerateTriangle(t.v0, t.v1, t.v2);
+    const bool isDegenerate = degenerate(t.v0, t.v1, t.v2);
     const Box3f box = boxOf(t);
-    prims_[i] = BvhPrim::make(degenerate ? Box3f{} : box, static_cast<std::uint32_t>(i));
-    if (degenerate) {
+    prims_[i] = BvhPrim::make(isDegenerate ? Box3f{} : box, static_cast<std::uint32_t>(i));
+    if (isDegenerate) {
       ++acc.degenerate;
     } else {
       acc.bounds.extend(box);
@@ -183,7 +183,7 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   stats_.leaves = result.leaves;
   stats_.maxDepth = result.maxDepth;
   stats_.primReferences = refs;
-  stats_.sahCost = bvh4SahCost(nodes_, kTraversalCost, kIntersectionCost);
+  stats_.sahCost = nodes_.empty() ? 0.0 : result.sahCost;
 }
 
 void BvhAccel::buildMorton(const TriangleMesh& mesh) {

@@ -6,15 +6,18 @@
 // Every range is binned at most once (pairs need no bins): the split (or the decision to make it
 // a leaf) travels with the range into the node that applies it, with the bounds of both sides
 // taken from the bins. Large ranges bin in parallel and build their subtrees as parallel tasks;
-// the partition itself stays serial, which costs one pass over the primitives per level of the
-// few top levels. (A stable parallel partition through a second buffer was tried: it does about
-// twice the work of the serial one and was no faster on two threads.)
+// the largest partition their two halves in place in parallel. (A stable parallel partition
+// through a second buffer was tried: it does about twice the work of the serial one and was no
+// faster on two threads.) Small subtrees number their nodes on their own thread and join the
+// tree as one block.
 #include "BvhBuilder.h"
 
+#include "Bvh4Refit.h"
 #include "BvhBinning.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
@@ -22,6 +25,7 @@
 #include <atomic>
 #include <bit>
 #include <limits>
+#include <type_traits>
 
 namespace tg::detail {
 namespace {
@@ -33,6 +37,11 @@ constexpr int kMedianDepth = 32;
 /// Ranges with at least this many primitives bin into two alternating bin sets (see
 /// BinSet::addInterleaved); below it, preparing and merging the second set costs more.
 constexpr std::size_t kInterleaveMin = 256;
+
+/// Ranges with at least this many primitives partition their two halves in parallel (the few
+/// ranges at the top of the tree, which would otherwise be partitioned by one thread while the
+/// other waits).
+constexpr std::size_t kParallelPartitionMin = 32768;
 
 /// Primitives per extra bin beyond four in binCountFor.
 constexpr std::size_t kPrimsPerBin = 20;
@@ -138,19 +147,22 @@ class Builder {
     out_.nodes.resize(prims_.size());
     nextNode_.store(1, std::memory_order_relaxed);
     const Split split = decide(root, 0);
+    SubtreeTally tally;
     if (split.kind == Split::Kind::Leaf) {
       Bvh4Node& node = out_.nodes[0];
       node = Bvh4Node::makeEmpty();
       node.setBounds(0, root.bounds.box());
       node.child[0] = 0;
       node.count[0] = static_cast<std::uint32_t>(root.count());
-      leaves_.store(1, std::memory_order_relaxed);
+      tally.leaves = 1;
+      tally.sah.addSlot(root.bounds.box(), double(options_.intersectionCost) * root.count());
     } else {
-      buildNode(0, root, split, 0);
+      tally = buildNode(TreeNodes{*this}, 0, root, split, 0);
     }
     out_.nodes.resize(nextNode_.load(std::memory_order_relaxed));
-    out_.leaves = leaves_.load(std::memory_order_relaxed);
-    out_.maxDepth = maxDepth_.load(std::memory_order_relaxed);
+    out_.leaves = tally.leaves;
+    out_.maxDepth = tally.maxDepth;
+    out_.sahCost = tally.sah.finish(out_.bounds, options_.traversalCost);
   }
 
  private:
@@ -314,7 +326,31 @@ class Builder {
       const auto partition = split.axis == 0   ? partitionBinned<0>
                              : split.axis == 1 ? partitionBinned<1>
                                                : partitionBinned<2>;
-      mid = partition(p, r.begin, r.end, split.origin, split.scale, split.bins, split.bin, lc, rc);
+      const auto run = [&](std::size_t begin, std::size_t end, SseBox& l, SseBox& h) {
+        return partition(p, begin, end, split.origin, split.scale, split.bins, split.bin, l, h);
+      };
+      if (r.count() < kParallelPartitionMin) {
+        mid = run(r.begin, r.end, lc, rc);
+      } else {
+        // The two halves partition in parallel, then the right-side run of the first half and
+        // the left-side run of the second trade places: the shorter run swaps with the far end
+        // of the longer one. The halves are cut by count alone, so the order (and the tree)
+        // does not depend on the number of threads.
+        const std::size_t half = r.begin + r.count() / 2;
+        SseBox lc2, rc2;
+        std::size_t mid1 = 0, mid2 = 0;
+        tbb::parallel_invoke([&] { mid1 = run(r.begin, half, lc, rc); },
+                             [&] { mid2 = run(half, r.end, lc2, rc2); });
+        lc.extend(lc2);
+        rc.extend(rc2);
+        const std::size_t rightOfFirst = half - mid1, leftOfSecond = mid2 - half;
+        if (rightOfFirst <= leftOfSecond) {
+          std::swap_ranges(p + mid1, p + half, p + mid2 - rightOfFirst);
+        } else {
+          std::swap_ranges(p + half, p + mid2, p + mid1);
+        }
+        mid = mid1 + leftOfSecond;
+      }
       left = {r.begin, mid, split.leftBounds, lc};
       right = {mid, r.end, split.rightBounds, rc};
       return;
@@ -337,11 +373,82 @@ class Builder {
     Split split;
   };
 
-  void buildNode(std::uint32_t index, const Range& r, const Split& split, int depth) {
-    std::size_t seen = maxDepth_.load(std::memory_order_relaxed);
-    while (seen < static_cast<std::size_t>(depth) &&
-           !maxDepth_.compare_exchange_weak(seen, static_cast<std::size_t>(depth))) {
+  /// What a subtree's build reports to its parent. Parents merge their children's tallies in
+  /// slot order, so the totals (the SAH sum in particular) depend on the tree alone, not on
+  /// which thread built which subtree.
+  struct SubtreeTally {
+    std::size_t leaves = 0;
+    std::size_t maxDepth = 0;
+    Bvh4SahSum sah;
+    void merge(const SubtreeTally& o) {
+      leaves += o.leaves;
+      maxDepth = std::max(maxDepth, o.maxDepth);
+      sah.add(o.sah);
     }
+  };
+
+  /// Nodes numbered in the tree itself: indices come from one atomic counter shared by all
+  /// threads. Used for the few large subtrees near the root.
+  struct TreeNodes {
+    Builder& builder;
+    std::uint32_t allocate(std::uint32_t count) const {
+      return builder.nextNode_.fetch_add(count, std::memory_order_relaxed);
+    }
+    void store(std::uint32_t index, const Bvh4Node& node) const {
+      builder.out_.nodes[index] = node;
+    }
+  };
+
+  /// Nodes of a small subtree numbered on the thread that builds it (its root is 0), moved into
+  /// the tree as one block afterwards (moveIntoTree). Most nodes are in such subtrees; numbering
+  /// them through the shared counter would make both threads write one cache line per node,
+  /// and would interleave the two threads' nodes in memory.
+  struct SubtreeNodes {
+    std::vector<Bvh4Node>& nodes;
+    std::uint32_t allocate(std::uint32_t count) const {
+      const auto first = static_cast<std::uint32_t>(nodes.size());
+      nodes.resize(first + count);
+      return first;
+    }
+    void store(std::uint32_t index, const Bvh4Node& node) const { nodes[index] = node; }
+  };
+
+  /// Builds the subtree of inner child `child` (tree index `index`): on this thread with its
+  /// own numbering when it is small, else as part of the tree.
+  SubtreeTally buildChild(std::uint32_t index, const Range& r, const Split& split, int depth) {
+    if (r.count() > options_.parallelThreshold) {
+      return buildNode(TreeNodes{*this}, index, r, split, depth);
+    }
+    std::vector<Bvh4Node> local;
+    // A BVH4 has about one inner node per six primitives; the vector grows if it needs more.
+    local.reserve(r.count() / 4 + 1);
+    local.resize(1);
+    const SubtreeTally tally = buildNode(SubtreeNodes{local}, 0, r, split, depth);
+    moveIntoTree(index, local);
+    return tally;
+  }
+
+  /// Copies a subtree numbered by SubtreeNodes into the tree: its root to `rootIndex`, the
+  /// other nodes to one block taken from the shared counter. The block is taken after the
+  /// parent numbered `rootIndex`, and local numbers put children after their parent, so the
+  /// tree keeps that order.
+  void moveIntoTree(std::uint32_t rootIndex, const std::vector<Bvh4Node>& local) {
+    const auto extra = static_cast<std::uint32_t>(local.size() - 1);
+    const std::uint32_t base =
+        extra == 0 ? 0 : nextNode_.fetch_add(extra, std::memory_order_relaxed);
+    const auto treeIndex = [&](std::uint32_t i) { return i == 0 ? rootIndex : base + i - 1; };
+    for (std::uint32_t i = 0; i < local.size(); ++i) {
+      Bvh4Node node = local[i];
+      for (int s = 0; s < 4; ++s)
+        if (node.count[s] == 0 && node.child[s] != kInvalidId)
+          node.child[s] = treeIndex(node.child[s]);
+      out_.nodes[treeIndex(i)] = node;
+    }
+  }
+
+  template <class Nodes>
+  SubtreeTally buildNode(const Nodes& nodes, std::uint32_t index, const Range& r,
+                         const Split& split, int depth) {
     Child children[4];
     children[0] = {r, split};
     int n = 1;
@@ -370,24 +477,23 @@ class Builder {
     int innerSlot[4];  // slots of the inner children, which are built from children[] in place
     std::uint32_t innerIndex[4];
     int innerCount = 0;
-    std::size_t leafCount = 0;
     for (int c = 0; c < n; ++c) innerCount += children[c].split.kind == Split::Kind::Leaf ? 0 : 1;
     // Children are numbered after their parent, which lets a refit run bottom-up by walking
-    // the nodes backwards. One atomic step per node for the numbers and one for the leaf count:
-    // on small sequential builds the atomics would otherwise be a visible share of the time.
-    std::uint32_t nextIndex = innerCount == 0
-                                  ? 0
-                                  : nextNode_.fetch_add(static_cast<std::uint32_t>(innerCount),
-                                                        std::memory_order_relaxed);
+    // the nodes backwards.
+    std::uint32_t nextIndex =
+        innerCount == 0 ? 0 : nodes.allocate(static_cast<std::uint32_t>(innerCount));
     innerCount = 0;
     bool large = false;
+    SubtreeTally tally;
+    tally.maxDepth = static_cast<std::size_t>(depth);
     for (int c = 0; c < n; ++c) {
       const Child& child = children[c];
-      node.setBounds(c, child.range.bounds.box());
+      const Box3f box = child.range.bounds.box();
+      node.setBounds(c, box);
       if (child.split.kind == Split::Kind::Leaf) {
         node.child[c] = static_cast<std::uint32_t>(child.range.begin);
         node.count[c] = static_cast<std::uint32_t>(child.range.count());
-        ++leafCount;
+        ++tally.leaves;
       } else {
         const std::uint32_t childIndex = nextIndex++;
         node.child[c] = childIndex;
@@ -397,17 +503,34 @@ class Builder {
         large = large || child.range.count() > options_.parallelThreshold;
       }
     }
-    if (leafCount != 0) leaves_.fetch_add(leafCount, std::memory_order_relaxed);
-    out_.nodes[index] = node;
+    nodes.store(index, node);
+    SubtreeTally inner[4];
     const auto recurse = [&](int k) {
       const Child& child = children[innerSlot[k]];
-      buildNode(innerIndex[k], child.range, child.split, depth + 1);
+      // A subtree numbered on its own thread stays so all the way down.
+      if constexpr (std::is_same_v<Nodes, SubtreeNodes>) {
+        inner[k] = buildNode(nodes, innerIndex[k], child.range, child.split, depth + 1);
+      } else {
+        inner[k] = buildChild(innerIndex[k], child.range, child.split, depth + 1);
+      }
     };
     if (large && innerCount > 1) {
       tbb::parallel_for(0, innerCount, recurse);
     } else {
       for (int k = 0; k < innerCount; ++k) recurse(k);
     }
+    // The SAH sum in slot order, as refitBvh4 takes it.
+    for (int c = 0, k = 0; c < n; ++c) {
+      const Child& child = children[c];
+      const Box3f box = child.range.bounds.box();
+      if (child.split.kind == Split::Kind::Leaf) {
+        tally.sah.addSlot(box, double(options_.intersectionCost) * child.range.count());
+      } else {
+        tally.sah.addSlot(box, options_.traversalCost);
+        tally.merge(inner[k++]);
+      }
+    }
+    return tally;
   }
 
   std::vector<BvhPrim>& prims_;
@@ -415,8 +538,6 @@ class Builder {
   const int bins_;
   BvhBuildResult& out_;
   std::atomic<std::uint32_t> nextNode_{0};
-  std::atomic<std::size_t> leaves_{0};
-  std::atomic<std::size_t> maxDepth_{0};
 };
 
 }  // namespace

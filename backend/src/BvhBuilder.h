@@ -62,7 +62,8 @@ struct BvhBuildResult {
   /// Bounds of all primitives.
   Box3f bounds;
   /// bvh4SahCost of the nodes with the builder's SAH weights, when the builder gathers it on
-  /// the way (the Morton builder); negative otherwise.
+  /// the way (buildBvh4 and the Morton builder; summed in another order, so it may differ from
+  /// bvh4SahCost in the last bits); negative otherwise.
   double sahCost = -1.0;
 };
 

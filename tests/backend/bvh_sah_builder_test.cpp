@@ -1,6 +1,7 @@
 // The binned-SAH BVH4 builder on its own: tree structure (every primitive in exactly one leaf,
 // tight boxes, leaf sizes), awkward inputs (no primitive, one, equal centroids, point boxes),
-// the same tree whatever the thread count on the parallel paths, and the SSE bin mapping
+// the same tree whatever the thread count on the parallel paths (subtree tasks, the parallel
+// partition of large ranges, the SAH cost gathered on the way), and the SSE bin mapping
 // agreeing with the scalar one the partition uses.
 #define BOOST_TEST_MODULE bvh_sah_builder
 #include <boost/test/unit_test.hpp>
@@ -56,6 +57,10 @@ TreeCheck buildAndCheck(const std::vector<Box3f>& boxes, const BvhBuildOptions& 
     if (n != 1) c.fail("a primitive is not in exactly one leaf");
   if (!sameBox(all, out.bounds)) c.fail("result bounds differ from the root's slots");
   if (c.leaves != out.leaves) c.fail("leaf count differs from the walk");
+  if (c.maxDepth != out.maxDepth) c.fail("depth differs from the walk");
+  // The SAH cost gathered during the build is the walk's, summed in another order.
+  const double walked = bvh4SahCost(out.nodes, options.traversalCost, options.intersectionCost);
+  if (!(std::abs(out.sahCost - walked) <= 1e-9 * walked)) c.fail("gathered SAH cost is wrong");
   return c;
 }
 
@@ -177,6 +182,8 @@ BOOST_AUTO_TEST_CASE(trees_do_not_depend_on_the_thread_count) {
       sameOrder = prims[0][k].id == prims[1][k].id;
     BOOST_TEST(sameOrder);
     BOOST_TEST(bvh4SahCost(out[0].nodes, 1.0, 1.0) == bvh4SahCost(out[1].nodes, 1.0, 1.0));
+    // Subtrees report their SAH sums in slot order, whichever thread built them.
+    BOOST_TEST(out[0].sahCost == out[1].sahCost);
   }
 }
 
