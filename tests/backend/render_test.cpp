@@ -982,6 +982,8 @@ BOOST_AUTO_TEST_CASE(texture_sampling_is_bit_identical_to_the_fmod_reference) {
   // Texel borders and centres of both axes, one ulp either side, wrapped copies, huge and
   // non-finite coordinates, and random ones.
   std::vector<float> coords = {1e-30f, -1e-30f, 0.9999999f, -0.9999999f, 1e6f, -1e7f, 12345.678f};
+  // Either side of 2^23, where floats stop having fractions, and far beyond int32.
+  coords.insert(coords.end(), {8388607.5f, -8388607.5f, 8388608.0f, -8388609.0f, 3e9f, -3e9f});
   coords.push_back(std::numeric_limits<float>::infinity());
   coords.push_back(std::numeric_limits<float>::quiet_NaN());
   for (int i = -12; i <= 12; ++i)
