@@ -2,6 +2,7 @@
 // every tile task; all mutable state (traversal context, counters) belongs to the caller.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -97,6 +98,14 @@ struct WaveScratch {
   std::vector<std::uint8_t> blocked;
 };
 
+/// Four point lights of a frame by coordinate, so that the shader computes their terms at a
+/// surface point four at a time (see pointLightTerms in Shading.cpp).
+struct PointLightQuad {
+  std::array<float, 4> x{}, y{}, z{};  ///< positions
+  std::array<float, 4> r{}, g{}, b{};  ///< colours, before any attenuation
+  bool attenuated = false;             ///< some light of the quad has distance attenuation
+};
+
 /// Traces and shades rays for one mode.
 class Shader {
  public:
@@ -159,8 +168,9 @@ class Shader {
   const Scene& scene_;
   RenderSettings settings_;
   bool whitted_;
-  std::vector<float> highlightCutoffs_;  ///< by material index (see Shading.cpp)
-  Material defaultMaterial_{};           ///< for hits without a material, as RenderScene gives
+  std::vector<float> highlightCutoffs_;     ///< by material index (see Shading.cpp)
+  Material defaultMaterial_{};              ///< for hits without a material, as RenderScene gives
+  std::vector<PointLightQuad> pointQuads_;  ///< rs_.pointLights by four
 };
 
 }  // namespace tg::detail

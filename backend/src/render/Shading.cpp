@@ -3,6 +3,10 @@
 #include <cmath>
 #include <optional>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "Shader.h"
 #include "tracegraph/backend/render/Optics.h"
 
@@ -21,22 +25,12 @@ bool isBlack(const Vec3f& c) {
   return !(c.x > 0.0f || c.y > 0.0f || c.z > 0.0f);
 }
 
-/// Calls fn(LightSample, index) for every light of the scene, as seen from point p; `index`
-/// numbers the lights point, directional, then spot (Shader::lightCount of them in all).
+/// Calls fn(LightSample, index) for every directional and spot light of the scene, as seen
+/// from point p; `index` numbers the lights point (done by pointLightTerms), directional, then
+/// spot (Shader::lightCount of them in all).
 template <typename Fn>
-void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
-  std::size_t index = 0;
-  for (const PointLight& l : rs.pointLights) {
-    const std::size_t i = index++;
-    const Vec3f toLight = l.position - p;
-    const float distance = length(toLight);
-    if (!(distance > 0.0f)) continue;  // a light exactly at the point lights nothing
-    LightSample s;
-    s.direction = toLight / distance;
-    s.color = l.attenuation.none() ? l.color : l.color * l.attenuation.factor(distance);
-    s.position = l.position;
-    fn(s, i);
-  }
+void forEachOtherLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
+  std::size_t index = rs.pointLights.size();
   for (const DirectionalLight& l : rs.directionalLights) {
     LightSample s;
     s.direction = -normalize(l.direction);
@@ -79,6 +73,220 @@ Vec3f phong(const Material& m, const Vec3f& diffuse, const Vec3f& n, const Vec3f
   return c;
 }
 
+#if defined(__SSE2__)
+/// Four floats, one per light of a PointLightQuad. Every operation is the IEEE operation of the
+/// scalar code, lane by lane, so a lane holds bit for bit what the scalar code computes.
+struct Lanes {
+  __m128 v;
+};
+/// A true/false per lane, as SSE comparisons give it (all bits set or clear).
+struct LaneMask {
+  __m128 v;
+};
+Lanes load(const std::array<float, 4>& a) {
+  return {_mm_loadu_ps(a.data())};
+}
+Lanes splat(float f) {
+  return {_mm_set1_ps(f)};
+}
+void store(const Lanes& a, std::array<float, 4>& out) {
+  _mm_storeu_ps(out.data(), a.v);
+}
+Lanes operator+(Lanes a, Lanes b) {
+  return {_mm_add_ps(a.v, b.v)};
+}
+Lanes operator-(Lanes a, Lanes b) {
+  return {_mm_sub_ps(a.v, b.v)};
+}
+Lanes operator*(Lanes a, Lanes b) {
+  return {_mm_mul_ps(a.v, b.v)};
+}
+Lanes operator/(Lanes a, Lanes b) {
+  return {_mm_div_ps(a.v, b.v)};
+}
+Lanes sqrt(Lanes a) {
+  return {_mm_sqrt_ps(a.v)};
+}
+LaneMask operator>(Lanes a, Lanes b) {
+  return {_mm_cmpgt_ps(a.v, b.v)};
+}
+LaneMask operator>=(Lanes a, Lanes b) {
+  return {_mm_cmpge_ps(a.v, b.v)};
+}
+LaneMask operator<=(Lanes a, Lanes b) {
+  return {_mm_cmple_ps(a.v, b.v)};
+}
+LaneMask operator|(LaneMask a, LaneMask b) {
+  return {_mm_or_ps(a.v, b.v)};
+}
+LaneMask operator&(LaneMask a, LaneMask b) {
+  return {_mm_and_ps(a.v, b.v)};
+}
+/// a and not b.
+LaneMask andNot(LaneMask a, LaneMask b) {
+  return {_mm_andnot_ps(b.v, a.v)};
+}
+LaneMask allLanes(bool on) {
+  return {_mm_castsi128_ps(_mm_set1_epi32(on ? -1 : 0))};
+}
+/// Bit j set when lane j is true.
+unsigned bits(LaneMask m) {
+  return static_cast<unsigned>(_mm_movemask_ps(m.v));
+}
+/// a where m is true, b elsewhere.
+Lanes select(LaneMask m, Lanes a, Lanes b) {
+  return {_mm_or_ps(_mm_and_ps(m.v, a.v), _mm_andnot_ps(m.v, b.v))};
+}
+#else
+/// Four floats, one per light of a PointLightQuad (portable fallback of the SSE version).
+struct Lanes {
+  std::array<float, 4> v;
+};
+/// A true/false per lane, as bits.
+struct LaneMask {
+  unsigned v;
+};
+template <typename F>
+Lanes laneWise(F&& f) {
+  Lanes r;
+  for (std::size_t j = 0; j < 4; ++j) r.v[j] = f(j);
+  return r;
+}
+template <typename F>
+LaneMask maskWise(F&& f) {
+  unsigned m = 0;
+  for (std::size_t j = 0; j < 4; ++j) m |= f(j) ? 1u << j : 0u;
+  return {m};
+}
+Lanes load(const std::array<float, 4>& a) {
+  return {a};
+}
+Lanes splat(float f) {
+  return {{f, f, f, f}};
+}
+void store(const Lanes& a, std::array<float, 4>& out) {
+  out = a.v;
+}
+Lanes operator+(Lanes a, Lanes b) {
+  return laneWise([&](std::size_t j) { return a.v[j] + b.v[j]; });
+}
+Lanes operator-(Lanes a, Lanes b) {
+  return laneWise([&](std::size_t j) { return a.v[j] - b.v[j]; });
+}
+Lanes operator*(Lanes a, Lanes b) {
+  return laneWise([&](std::size_t j) { return a.v[j] * b.v[j]; });
+}
+Lanes operator/(Lanes a, Lanes b) {
+  return laneWise([&](std::size_t j) { return a.v[j] / b.v[j]; });
+}
+Lanes sqrt(Lanes a) {
+  return laneWise([&](std::size_t j) { return std::sqrt(a.v[j]); });
+}
+LaneMask operator>(Lanes a, Lanes b) {
+  return maskWise([&](std::size_t j) { return a.v[j] > b.v[j]; });
+}
+LaneMask operator>=(Lanes a, Lanes b) {
+  return maskWise([&](std::size_t j) { return a.v[j] >= b.v[j]; });
+}
+LaneMask operator<=(Lanes a, Lanes b) {
+  return maskWise([&](std::size_t j) { return a.v[j] <= b.v[j]; });
+}
+LaneMask operator|(LaneMask a, LaneMask b) {
+  return {a.v | b.v};
+}
+LaneMask operator&(LaneMask a, LaneMask b) {
+  return {a.v & b.v};
+}
+LaneMask andNot(LaneMask a, LaneMask b) {
+  return {a.v & ~b.v};
+}
+LaneMask allLanes(bool on) {
+  return {on ? 15u : 0u};
+}
+unsigned bits(LaneMask m) {
+  return m.v;
+}
+Lanes select(LaneMask m, Lanes a, Lanes b) {
+  return laneWise([&](std::size_t j) { return (m.v >> j & 1u) ? a.v[j] : b.v[j]; });
+}
+#endif
+
+/// The Phong terms of the four lights of a quad at one surface point.
+struct QuadTerms {
+  std::array<float, 4> r, g, b;  ///< light colour times the Phong terms (valid where added)
+  unsigned present = 0;          ///< bit j: light j is not exactly at the point
+  unsigned added = 0;            ///< bit j: light j adds a non-black term (a subset of present)
+};
+
+/// What forEachLightTerm computes for one point light (direction, attenuation, the tests that
+/// skip it, phong, the black test of the result), for the `count` lights of quad `q` (`lights`
+/// the first of them) at once, in the same IEEE operations lane by lane: identical terms, in a
+/// fraction of the instructions.
+QuadTerms pointLightTerms(const PointLightQuad& q, const PointLight* lights, std::size_t count,
+                          const SurfaceShading& sh) {
+  const Vec3f& p = sh.sd.position;
+  const Lanes zero = splat(0.0f);
+  const Lanes tx = load(q.x) - splat(p.x), ty = load(q.y) - splat(p.y), tz = load(q.z) - splat(p.z);
+  const Lanes distance = sqrt(tx * tx + ty * ty + tz * tz);  // length(toLight)
+  const Lanes dx = tx / distance, dy = ty / distance, dz = tz / distance;
+  auto dotDirection = [&](const Vec3f& n) {
+    return splat(n.x) * dx + splat(n.y) * dy + splat(n.z) * dz;
+  };
+  const Lanes nl = dotDirection(sh.ns), ngl = dotDirection(sh.ng);
+  Lanes cr = load(q.r), cg = load(q.g), cb = load(q.b);
+  if (q.attenuated) {
+    std::array<float, 4> d, r = q.r, g = q.g, b = q.b;
+    store(distance, d);
+    for (std::size_t j = 0; j < count; ++j) {
+      if (lights[j].attenuation.none()) continue;
+      const Vec3f c = lights[j].color * lights[j].attenuation.factor(d[j]);
+      r[j] = c.x;
+      g[j] = c.y;
+      b[j] = c.z;
+    }
+    cr = load(r);
+    cg = load(g);
+    cb = load(b);
+  }
+  // Lanes past `count` and lanes that fail a test compute garbage that no one reads.
+  const LaneMask present = distance > zero;
+  const LaneMask lightNotBlack = (cr > zero) | (cg > zero) | (cb > zero);
+  const LaneMask facing =
+      andNot(present & lightNotBlack & allLanes(sh.material.lit()), (nl <= zero) | (ngl <= zero));
+  // phong(): diffuse * nl, plus the highlight where r.v > 0 and r.v >= the cutoff.
+  const Material& m = sh.material;
+  Lanes r = splat(sh.diffuse.x) * nl, g = splat(sh.diffuse.y) * nl, b = splat(sh.diffuse.z) * nl;
+  if (m.reflective()) {
+    const Lanes twoNl = splat(2.0f) * nl;
+    const Lanes rx = splat(sh.ns.x) * twoNl - dx, ry = splat(sh.ns.y) * twoNl - dy,
+                rz = splat(sh.ns.z) * twoNl - dz;
+    const Lanes rv = rx * splat(sh.v.x) + ry * splat(sh.v.y) + rz * splat(sh.v.z);
+    const LaneMask highlight = facing & (rv > zero) & (rv >= splat(sh.highlightCutoff));
+    if (const unsigned lanes = bits(highlight) & ((1u << count) - 1u)) {
+      std::array<float, 4> rvs, powers{};
+      store(rv, rvs);
+      for (std::size_t j = 0; j < count; ++j)
+        if (lanes >> j & 1u) powers[j] = std::pow(rvs[j], m.shine);
+      const Lanes power = load(powers);
+      r = select(highlight, r + splat(m.specular.x) * power, r);
+      g = select(highlight, g + splat(m.specular.y) * power, g);
+      b = select(highlight, b + splat(m.specular.z) * power, b);
+    }
+  }
+  r = cr * r;
+  g = cg * g;
+  b = cb * b;
+  const LaneMask added = facing & ((r > zero) | (g > zero) | (b > zero));
+  QuadTerms t;
+  store(r, t.r);
+  store(g, t.g);
+  store(b, t.b);
+  const unsigned used = (1u << count) - 1u;
+  t.present = bits(present) & used;
+  t.added = bits(added) & used;
+  return t;
+}
+
 /// Colours of the `classes` mode.
 Vec3f classColor(DynamicsClass c) {
   switch (c) {
@@ -116,6 +324,21 @@ Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
       whitted_(settings.mode == RenderMode::Whitted) {
   highlightCutoffs_.reserve(scene.materials.size());
   for (const Material& m : scene.materials) highlightCutoffs_.push_back(highlightCutoff(m.shine));
+  // Unused lanes of the last quad repeat a light; their results are never read.
+  const std::vector<PointLight>& lights = scene.pointLights;
+  pointQuads_.resize((lights.size() + 3) / 4);
+  for (std::size_t i = 0; i < pointQuads_.size() * 4; ++i) {
+    const PointLight& l = lights[std::min(i, lights.size() - 1)];
+    PointLightQuad& q = pointQuads_[i / 4];
+    const std::size_t j = i % 4;
+    q.x[j] = l.position.x;
+    q.y[j] = l.position.y;
+    q.z[j] = l.position.z;
+    q.r[j] = l.color.x;
+    q.g[j] = l.color.y;
+    q.b[j] = l.color.z;
+    q.attenuated = q.attenuated || !l.attenuation.none();
+  }
 }
 
 PixelSample Shader::shadePrimary(const Ray& ray, TraversalContext& ctx,
@@ -199,10 +422,42 @@ const SurfacePoint& Shader::surface(SurfaceShading& sh) const {
 template <typename Slot, typename Fn>
 void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&& slot,
                               Fn&& fn) const {
+  // Fills the term of light `index`, which adds `local`, and passes it on. Filled in place: a
+  // term built aside and then copied cost more than the Phong terms (partial stores read back
+  // as one wide load stall the copy).
+  auto add = [&](const Vec3f& local, std::size_t index, bool atInfinity, const Vec3f& direction,
+                 const Vec3f& position) {
+    LightTerm& term = slot(index);
+    term.local = local;
+    term.contributes = true;
+    term.needsShadowRay = false;
+    if (whitted_) {
+      term.shadow =
+          atInfinity ? spawnRay(surface(sh), direction) : spawnRayTo(surface(sh), position);
+      if (term.shadow.tfar > 0.0f) {
+        ++counters.traced.shadow;
+        term.needsShadowRay = true;
+      }
+    }
+    fn(term, index);
+  };
+  // Model only what the scene needs: no shadow ray when the light cannot change the colour.
+  const std::vector<PointLight>& points = rs_.pointLights;
+  for (std::size_t first = 0; first < points.size(); first += 4) {
+    const std::size_t count = std::min<std::size_t>(4, points.size() - first);
+    const QuadTerms q = pointLightTerms(pointQuads_[first / 4], points.data() + first, count, sh);
+    for (std::size_t j = 0; j < count; ++j) {
+      if (!(q.present >> j & 1u)) continue;  // a light exactly at the point lights nothing
+      if (!(q.added >> j & 1u)) {
+        if (whitted_) ++counters.saved.shadow;
+        continue;
+      }
+      add({q.r[j], q.g[j], q.b[j]}, first + j, false, {}, points[first + j].position);
+    }
+  }
   const bool lit = sh.material.lit();
-  forEachLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t index) {
+  forEachOtherLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t index) {
     const float nl = dot(sh.ns, light.direction);
-    // Model only what the scene needs: no shadow ray when the light cannot change the colour.
     if (!lit || isBlack(light.color) || nl <= 0.0f || dot(sh.ng, light.direction) <= 0.0f) {
       if (whitted_) ++counters.saved.shadow;
       return;
@@ -213,21 +468,7 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&&
       if (whitted_) ++counters.saved.shadow;
       return;
     }
-    // Filled in place: a term built aside and then copied cost more than the Phong terms
-    // (partial stores read back as one wide load stall the copy).
-    LightTerm& term = slot(index);
-    term.local = local;
-    term.contributes = true;
-    term.needsShadowRay = false;
-    if (whitted_) {
-      term.shadow = light.atInfinity ? spawnRay(surface(sh), light.direction)
-                                     : spawnRayTo(surface(sh), light.position);
-      if (term.shadow.tfar > 0.0f) {
-        ++counters.traced.shadow;
-        term.needsShadowRay = true;
-      }
-    }
-    fn(term, index);
+    add(local, index, light.atInfinity, light.direction, light.position);
   });
 }
 
