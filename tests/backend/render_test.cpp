@@ -748,16 +748,36 @@ BOOST_AUTO_TEST_CASE(point_light_terms_match_the_scalar_shading_bit_for_bit) {
   ts.rs.pointLights.push_back({{1, 3, 4}, {0.5f, 0.0f, 0.5f}, {}});
   const std::uint32_t w = 48, h = 36;
   const Camera cam = Camera::lookAt({4, 5, 6}, {0, 0.5f, 0}, {0, 1, 0}, 50.0f, w, h);
-  const Frame f = render(ts, cam, settingsFor(RenderMode::OpenGL));
   std::size_t differing = 0, highlighted = 0;
-  for (std::uint32_t y = 0; y < h; ++y)
-    for (std::uint32_t x = 0; x < w; ++x) {
-      const Vec3f got = f.beauty.rgb(x, y), want = referenceOpenGlPixel(ts, cam, x, y);
-      differing += std::memcmp(&got, &want, sizeof got) != 0;
-      highlighted += want.x > want.y + 0.3f;  // the box is green; a white highlight evens it
-    }
+  // The reference computes with denormals, as the test runs.
+  RenderSettings settings = settingsFor(RenderMode::OpenGL);
+  settings.flushDenormals = false;
+  auto compare = [&] {
+    const Frame f = render(ts, cam, settings);
+    for (std::uint32_t y = 0; y < h; ++y)
+      for (std::uint32_t x = 0; x < w; ++x) {
+        const Vec3f got = f.beauty.rgb(x, y), want = referenceOpenGlPixel(ts, cam, x, y);
+        differing += std::memcmp(&got, &want, sizeof got) != 0;
+        highlighted += want.x > want.y + 0.3f;  // the box is green; a white highlight evens it
+      }
+  };
+  compare();
   BOOST_TEST(differing == 0u);
   BOOST_TEST(highlighted > 0u);
+  // Highlights too faint to change the diffuse term skip their power: vary the exponent, how
+  // bright the highlight is against the diffuse term, and a diffuse channel of 0, which
+  // absorbs nothing.
+  for (const float shine : {0.5f, 3.0f, 40.0f, 400.0f, 5000.0f})
+    for (const Vec3f& diffuse : {Vec3f{0.6f, 0.5f, 0.4f}, Vec3f{0.01f, 0.3f, 0.0f}})
+      for (const float specular : {1e-6f, 0.3f, 50.0f}) {
+        for (Material& m : ts.rs.materials) {
+          m.shine = shine;
+          m.diffuse = diffuse;
+          m.specular = {specular, specular * 0.5f, specular};
+        }
+        compare();
+      }
+  BOOST_TEST(differing == 0u);
 }
 
 // ---------------------------------------------------------------------------------------------

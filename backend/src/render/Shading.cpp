@@ -59,6 +59,26 @@ float highlightCutoff(float shine) {
   return shine > 0.0f ? std::exp2(-160.0f / shine) : 0.0f;
 }
 
+/// The cutoff, and where a highlight is too small to change the diffuse term it is added to.
+/// Below negligibleBelow = 2^(-34 / shine) (rounded to float: relative error 2^-24, which moves
+/// the bound on the power by less than a factor 2 up to shine 2^23), rv^shine < 2^-33 and powf
+/// (error under one ulp) returns at most 2^-32. The highlight specular * powf is then at most
+/// specular * 2^-32 (2^-32 scales exactly); for a diffuse term c >= specular * 2^-7 = 2^25 times
+/// that, it is below c * 2^-25, under half an ulp of c, so c + highlight rounds to c itself.
+/// c must also be > 0: adding a +0 highlight to -0 would give +0. The profile of the kitchen
+/// has most powers in that range.
+HighlightLimits highlightLimits(const Material& m) {
+  HighlightLimits h;
+  h.cutoff = highlightCutoff(m.shine);
+  const Vec3f absorbing = m.specular * 0x1p-7f;
+  // Only when scaling by 2^-7 lost no bits (not for denormal or flushed specular values).
+  if (m.shine > 0.0f && m.shine <= 0x1p23f && absorbing * 0x1p7f == m.specular) {
+    h.negligibleBelow = static_cast<float>(std::exp2(-34.0 / static_cast<double>(m.shine)));
+    h.absorbingDiffuse = absorbing;
+  }
+  return h;
+}
+
 /// Phong terms for unit normal n, unit view vector v and unit light vector l with nl = n.l > 0:
 /// diffuse max(0, n.l) + specular max(0, r.v)^shine. A highlight needs r.v > 0, so 0^0 (shine
 /// 0 facing away) counts as no highlight; below `cutoff` (see highlightCutoff) it is +0.
@@ -261,7 +281,13 @@ QuadTerms pointLightTerms(const PointLightQuad& q, const PointLight* lights, std
     const Lanes rx = splat(sh.ns.x) * twoNl - dx, ry = splat(sh.ns.y) * twoNl - dy,
                 rz = splat(sh.ns.z) * twoNl - dz;
     const Lanes rv = rx * splat(sh.v.x) + ry * splat(sh.v.y) + rz * splat(sh.v.z);
-    const LaneMask highlight = facing & (rv > zero) & (rv >= splat(sh.highlightCutoff));
+    const HighlightLimits& limits = sh.highlight;
+    const LaneMask absorbed = (splat(limits.negligibleBelow) > rv) & (r > zero) & (g > zero) &
+                              (b > zero) & (r >= splat(limits.absorbingDiffuse.x)) &
+                              (g >= splat(limits.absorbingDiffuse.y)) &
+                              (b >= splat(limits.absorbingDiffuse.z));
+    const LaneMask highlight =
+        andNot(facing & (rv > zero) & (rv >= splat(limits.cutoff)), absorbed);
     if (const unsigned lanes = bits(highlight) & ((1u << count) - 1u)) {
       std::array<float, 4> rvs, powers{};
       store(rv, rvs);
@@ -322,8 +348,8 @@ Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
       scene_(*scene.scene),
       settings_(settings),
       whitted_(settings.mode == RenderMode::Whitted) {
-  highlightCutoffs_.reserve(scene.materials.size());
-  for (const Material& m : scene.materials) highlightCutoffs_.push_back(highlightCutoff(m.shine));
+  highlightLimits_.reserve(scene.materials.size());
+  for (const Material& m : scene.materials) highlightLimits_.push_back(highlightLimits(m));
   // Unused lanes of the last quad repeat a light; their results are never read.
   const std::vector<PointLight>& lights = scene.pointLights;
   pointQuads_.resize((lights.size() + 3) / 4);
@@ -393,7 +419,7 @@ SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::Surf
   const std::uint32_t index = rs_.materialIndex(hit.instanceId, hit.objectId, hit.primId);
   const bool listed = index < rs_.materials.size();
   SurfaceShading sh{ray, hit, sd, listed ? rs_.materials[index] : defaultMaterial_};
-  sh.highlightCutoff = listed ? highlightCutoffs_[index] : highlightCutoff(defaultMaterial_.shine);
+  sh.highlight = listed ? highlightLimits_[index] : highlightLimits(defaultMaterial_);
   // Shade with the normals facing the incoming ray; the geometric normal alone decides the
   // side, because interpolated normals can disagree with it near silhouettes.
   sh.backFace = dot(sd.geometricNormal, ray.direction) > 0.0f;
@@ -463,7 +489,7 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&&
       return;
     }
     const Vec3f local = light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction,
-                                            nl, sh.highlightCutoff);
+                                            nl, sh.highlight.cutoff);
     if (isBlack(local)) {
       if (whitted_) ++counters.saved.shadow;
       return;
