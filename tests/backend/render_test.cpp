@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -172,6 +173,17 @@ BOOST_AUTO_TEST_CASE(camera_samples_pixel_centres_with_row_zero_on_top) {
   for (std::uint32_t y = 0; y < 5; ++y)
     for (std::uint32_t x = 0; x < 5; ++x)
       BOOST_TEST(std::abs(length(cam.primaryRay(x, y).direction) - 1.0f) < 2e-7f);
+  // The renderer forms each column's and row's plane coordinate once; the rays are the same.
+  const Camera wide = Camera::lookAt({0.3f, -2.0f, 7.0f}, {1.0f, 0.5f, -3.0f}, {0.1f, 1.0f, 0.2f},
+                                     63.7f, 37, 23, 0.01f);
+  for (std::uint32_t y = 0; y < 23; ++y)
+    for (std::uint32_t x = 0; x < 37; ++x) {
+      const Ray a = wide.primaryRay(x, y);
+      const Ray b = wide.rayThroughPlane(wide.planeX(x + 0.5), wide.planeY(y + 0.5));
+      BOOST_TEST((std::bit_cast<std::array<std::uint32_t, 3>>(a.direction) ==
+                  std::bit_cast<std::array<std::uint32_t, 3>>(b.direction)));
+      BOOST_TEST((a.origin == b.origin && a.tnear == b.tnear && a.tfar == b.tfar));
+    }
   BOOST_CHECK_THROW(Camera::lookAt({0, 0, 0}, {0, 1, 0}, {0, 1, 0}, 45.0f, 4, 4), Error);
   BOOST_CHECK_THROW(Camera::lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 180.0f, 4, 4), Error);
   BOOST_CHECK_THROW(Camera::lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 45.0f, 0, 4), Error);
