@@ -1,5 +1,6 @@
 // Whitted and OpenGL-like shading and the debug modes (see Shader.h).
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <optional>
 
@@ -472,12 +473,11 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&&
   for (std::size_t first = 0; first < points.size(); first += 4) {
     const std::size_t count = std::min<std::size_t>(4, points.size() - first);
     const QuadTerms q = pointLightTerms(pointQuads_[first / 4], points.data() + first, count, sh);
-    for (std::size_t j = 0; j < count; ++j) {
-      if (!(q.present >> j & 1u)) continue;  // a light exactly at the point lights nothing
-      if (!(q.added >> j & 1u)) {
-        if (whitted_) ++counters.saved.shadow;
-        continue;
-      }
+    // A light exactly at the point lights nothing and saves nothing; present ones that add
+    // nothing save their shadow ray. Then the adding ones, in light order.
+    if (whitted_) counters.saved.shadow += std::popcount(q.present & ~q.added);
+    for (unsigned lanes = q.added; lanes != 0; lanes &= lanes - 1) {
+      const auto j = static_cast<std::size_t>(std::countr_zero(lanes));
       add({q.r[j], q.g[j], q.b[j]}, first + j, false, {}, points[first + j].position);
     }
   }
