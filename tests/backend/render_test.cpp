@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -172,6 +173,17 @@ BOOST_AUTO_TEST_CASE(camera_samples_pixel_centres_with_row_zero_on_top) {
   for (std::uint32_t y = 0; y < 5; ++y)
     for (std::uint32_t x = 0; x < 5; ++x)
       BOOST_TEST(std::abs(length(cam.primaryRay(x, y).direction) - 1.0f) < 2e-7f);
+  // The renderer forms each column's and row's plane coordinate once; the rays are the same.
+  const Camera wide = Camera::lookAt({0.3f, -2.0f, 7.0f}, {1.0f, 0.5f, -3.0f}, {0.1f, 1.0f, 0.2f},
+                                     63.7f, 37, 23, 0.01f);
+  for (std::uint32_t y = 0; y < 23; ++y)
+    for (std::uint32_t x = 0; x < 37; ++x) {
+      const Ray a = wide.primaryRay(x, y);
+      const Ray b = wide.rayThroughPlane(wide.planeX(x + 0.5), wide.planeY(y + 0.5));
+      BOOST_TEST((std::bit_cast<std::array<std::uint32_t, 3>>(a.direction) ==
+                  std::bit_cast<std::array<std::uint32_t, 3>>(b.direction)));
+      BOOST_TEST((a.origin == b.origin && a.tnear == b.tnear && a.tfar == b.tfar));
+    }
   BOOST_CHECK_THROW(Camera::lookAt({0, 0, 0}, {0, 1, 0}, {0, 1, 0}, 45.0f, 4, 4), Error);
   BOOST_CHECK_THROW(Camera::lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 180.0f, 4, 4), Error);
   BOOST_CHECK_THROW(Camera::lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 45.0f, 0, 4), Error);
@@ -683,6 +695,103 @@ BOOST_AUTO_TEST_CASE(useless_rays_are_saved_and_counted) {
   BOOST_TEST(st.saved.shadow == 3 * pixels);
 }
 
+namespace {
+
+bool isBlackColor(const Vec3f& c) {
+  return !(c.x > 0.0f || c.y > 0.0f || c.z > 0.0f);
+}
+
+/// The OpenGL-mode colour of pixel (x, y) of a scene lit by point lights, as the shader first
+/// computed it: a single ray, then light after light in scalar arithmetic.
+Vec3f referenceOpenGlPixel(const TestScene& ts, const Camera& cam, std::uint32_t x,
+                           std::uint32_t y) {
+  const Ray ray = cam.primaryRay(x, y);
+  Hit hit;
+  TraversalContext ctx;
+  if (!ts.scene.intersect(ray, hit, ctx)) return ts.rs.background;
+  const Scene::SurfaceData sd = ts.scene.surfaceAt(ray, hit);
+  const Material& m = ts.rs.material(hit.instanceId, hit.objectId, hit.primId);
+  const bool backFace = dot(sd.geometricNormal, ray.direction) > 0.0f;
+  const Vec3f ng = backFace ? -sd.geometricNormal : sd.geometricNormal;
+  const Vec3f ns = backFace ? -sd.shadingNormal : sd.shadingNormal;
+  const Vec3f v = -normalize(ray.direction);
+  Vec3f color = m.ambient * ts.rs.ambient;
+  for (const PointLight& l : ts.rs.pointLights) {
+    const Vec3f toLight = l.position - sd.position;
+    const float distance = length(toLight);
+    if (!(distance > 0.0f)) continue;
+    const Vec3f direction = toLight / distance;
+    const Vec3f arriving =
+        l.attenuation.none() ? l.color : l.color * l.attenuation.factor(distance);
+    const float nl = dot(ns, direction);
+    if (!m.lit() || isBlackColor(arriving) || nl <= 0.0f || dot(ng, direction) <= 0.0f) continue;
+    Vec3f c = m.diffuse * nl;
+    const float rv = dot(ns * (2.0f * nl) - direction, v);
+    if (m.reflective() && rv > 0.0f) c += m.specular * std::pow(rv, m.shine);
+    const Vec3f local = arriving * c;
+    if (!isBlackColor(local)) color += local;
+  }
+  return color;
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(point_light_terms_match_the_scalar_shading_bit_for_bit) {
+  // The shader takes point lights four at a time; seven lights fill one quad and part of the
+  // next, with every way a light can drop out, attenuation, and highlights.
+  TestScene ts;
+  Material floor = diffuseMaterial({0.6f, 0.5f, 0.4f});
+  floor.specular = {0.3f, 0.3f, 0.3f};
+  floor.shine = 13.7f;
+  floor.ambient = {0.2f, 0.2f, 0.2f};
+  ts.add(makeQuad({-10, 0, 10}, {20, 0, 0}, {0, 0, -20}), floor);
+  Material box = diffuseMaterial({0.2f, 0.7f, 0.3f});
+  box.specular = {0.5f, 0.4f, 0.3f};
+  box.shine = 97.43f;
+  ts.add(makeBox({-1, 0, -1}, {1, 1.5f, 1}), box);
+  ts.scene.commit();
+  ts.rs.ambient = {0.1f, 0.1f, 0.1f};
+  ts.rs.pointLights.push_back({{0, -5, 0}, {1, 1, 1}, {}});  // below the floor
+  ts.rs.pointLights.push_back({{3, 4, 2}, {0.7f, 0.6f, 0.5f}, {}});
+  ts.rs.pointLights.push_back({{0, 5, 0}, {0, 0, 0}, {}});  // black
+  ts.rs.pointLights.push_back({{-3, 2, 3}, {0.9f, 0.9f, 0.9f}, {1.0f, 0.3f, 0.05f}});
+  ts.rs.pointLights.push_back({{2, 0.5f, -3}, {0.4f, 0.8f, 0.4f}, {}});
+  ts.rs.pointLights.push_back({{-2, 6, -2}, {0.3f, 0.3f, 1.0f}, {0.5f, 0.0f, 0.2f}});
+  ts.rs.pointLights.push_back({{1, 3, 4}, {0.5f, 0.0f, 0.5f}, {}});
+  const std::uint32_t w = 48, h = 36;
+  const Camera cam = Camera::lookAt({4, 5, 6}, {0, 0.5f, 0}, {0, 1, 0}, 50.0f, w, h);
+  std::size_t differing = 0, highlighted = 0;
+  // The reference computes with denormals, as the test runs.
+  RenderSettings settings = settingsFor(RenderMode::OpenGL);
+  settings.flushDenormals = false;
+  auto compare = [&] {
+    const Frame f = render(ts, cam, settings);
+    for (std::uint32_t y = 0; y < h; ++y)
+      for (std::uint32_t x = 0; x < w; ++x) {
+        const Vec3f got = f.beauty.rgb(x, y), want = referenceOpenGlPixel(ts, cam, x, y);
+        differing += std::memcmp(&got, &want, sizeof got) != 0;
+        highlighted += want.x > want.y + 0.3f;  // the box is green; a white highlight evens it
+      }
+  };
+  compare();
+  BOOST_TEST(differing == 0u);
+  BOOST_TEST(highlighted > 0u);
+  // Highlights too faint to change the diffuse term skip their power: vary the exponent, how
+  // bright the highlight is against the diffuse term, and a diffuse channel of 0, which
+  // absorbs nothing.
+  for (const float shine : {0.5f, 3.0f, 40.0f, 400.0f, 5000.0f})
+    for (const Vec3f& diffuse : {Vec3f{0.6f, 0.5f, 0.4f}, Vec3f{0.01f, 0.3f, 0.0f}})
+      for (const float specular : {1e-6f, 0.3f, 50.0f}) {
+        for (Material& m : ts.rs.materials) {
+          m.shine = shine;
+          m.diffuse = diffuse;
+          m.specular = {specular, specular * 0.5f, specular};
+        }
+        compare();
+      }
+  BOOST_TEST(differing == 0u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Determinism (hard case 21) and AOVs
 
@@ -982,6 +1091,8 @@ BOOST_AUTO_TEST_CASE(texture_sampling_is_bit_identical_to_the_fmod_reference) {
   // Texel borders and centres of both axes, one ulp either side, wrapped copies, huge and
   // non-finite coordinates, and random ones.
   std::vector<float> coords = {1e-30f, -1e-30f, 0.9999999f, -0.9999999f, 1e6f, -1e7f, 12345.678f};
+  // Either side of 2^23, where floats stop having fractions, and far beyond int32.
+  coords.insert(coords.end(), {8388607.5f, -8388607.5f, 8388608.0f, -8388609.0f, 3e9f, -3e9f});
   coords.push_back(std::numeric_limits<float>::infinity());
   coords.push_back(std::numeric_limits<float>::quiet_NaN());
   for (int i = -12; i <= 12; ++i)

@@ -50,9 +50,20 @@ Ray Camera::primaryRay(std::uint32_t x, std::uint32_t y) const {
 }
 
 Ray Camera::primaryRayAt(double px, double py) const {
-  // Normalised device coordinates in [-1, 1]; y flips because row 0 is the top row.
-  const double sx = (2.0 * px / static_cast<double>(params_.width) - 1.0) * halfWidth_;
-  const double sy = (1.0 - 2.0 * py / static_cast<double>(params_.height)) * halfHeight_;
+  return rayThroughPlane(planeX(px), planeY(py));
+}
+
+double Camera::planeX(double px) const {
+  // Normalised device coordinates in [-1, 1], scaled to the image plane.
+  return (2.0 * px / static_cast<double>(params_.width) - 1.0) * halfWidth_;
+}
+
+double Camera::planeY(double py) const {
+  // y flips because row 0 is the top row.
+  return (1.0 - 2.0 * py / static_cast<double>(params_.height)) * halfHeight_;
+}
+
+Ray Camera::rayThroughPlane(double sx, double sy) const {
   const Vec3d d = forward_ + right_ * sx + upAxis_ * sy;
   Ray ray;
   ray.origin = params_.eye;

@@ -82,6 +82,7 @@ struct TileScratch {
   std::vector<Ray> rays;
   std::vector<Hit> hits;
   std::vector<std::uint32_t> px, py;
+  std::vector<double> planeX, planeY;  ///< Camera::planeX of the tile's columns, planeY of its rows
   std::vector<detail::PixelSample> samples;
   detail::WaveScratch wave;
 };
@@ -107,6 +108,13 @@ TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Ca
     scratch.px.resize(area);
     scratch.py.resize(area);
     scratch.samples.resize(area);
+    // Each column's and row's image-plane coordinate once, rather than once per pixel.
+    scratch.planeX.resize(rect.x1 - rect.x0);
+    scratch.planeY.resize(rect.y1 - rect.y0);
+    for (std::uint32_t x = rect.x0; x < rect.x1; ++x)
+      scratch.planeX[x - rect.x0] = camera.planeX(static_cast<double>(x) + 0.5);
+    for (std::uint32_t y = rect.y0; y < rect.y1; ++y)
+      scratch.planeY[y - rect.y0] = camera.planeY(static_cast<double>(y) + 0.5);
     // Pixels in block order: the rays of one 4 x 2 block are consecutive.
     std::size_t count = 0;
     for (std::uint32_t y0 = rect.y0; y0 < rect.y1; y0 += 2) {
@@ -117,7 +125,9 @@ TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Ca
           if (x >= rect.x1 || y >= rect.y1) continue;
           scratch.px[count] = x;
           scratch.py[count] = y;
-          scratch.rays[count++] = camera.primaryRay(x, y);
+          // camera.primaryRay(x, y), bit for bit.
+          scratch.rays[count++] =
+              camera.rayThroughPlane(scratch.planeX[x - rect.x0], scratch.planeY[y - rect.y0]);
         }
         scene.intersect(std::span<const Ray>(scratch.rays.data() + first, count - first),
                         std::span<Hit>(scratch.hits.data() + first, count - first), ctx);

@@ -2,6 +2,7 @@
 // every tile task; all mutable state (traversal context, counters) belongs to the caller.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -40,6 +41,17 @@ struct LightTerm {
   bool needsShadowRay = false;  ///< Whitted mode, and the shadow ray has length
 };
 
+/// Where a material's Phong highlight cannot change a colour, so that its power need not be
+/// computed (see highlightLimits in Shading.cpp).
+struct HighlightLimits {
+  float cutoff = 0.0f;  ///< r.v below which the highlight is exactly +0
+  /// r.v below which the highlight is at most specular * 2^-32 (0: never)...
+  float negligibleBelow = 0.0f;
+  /// ... which a diffuse term (per channel) above 0 and at least specular * 2^-7 absorbs
+  /// exactly: the highlight stays below half an ulp of it.
+  Vec3f absorbingDiffuse;
+};
+
 /// A surface point being shaded: the hit, its material and the facing normals.
 struct SurfaceShading {
   SurfaceShading(const Ray& r, const Hit& h, const Scene::SurfaceData& s, const Material& m)
@@ -54,7 +66,7 @@ struct SurfaceShading {
   Vec3f diffuse;                      ///< diffuse colour after texturing
   Vec3f color;                        ///< accumulated: ambient, then the unshadowed light terms
   std::optional<SurfacePoint> point;  ///< refined hit point, computed on first use
-  float highlightCutoff = 0.0f;       ///< r.v below which the Phong highlight is exactly 0
+  HighlightLimits highlight;          ///< of the material
 };
 
 /// The secondary rays a hit spawns in Whitted mode, and how their colours are weighed.
@@ -95,6 +107,14 @@ struct WaveScratch {
   std::vector<Ray> shadowRays;
   std::vector<std::uint32_t> shadowOwner;  ///< the ray of the level each shadow ray serves
   std::vector<std::uint8_t> blocked;
+};
+
+/// Four point lights of a frame by coordinate, so that the shader computes their terms at a
+/// surface point four at a time (see pointLightTerms in Shading.cpp).
+struct PointLightQuad {
+  std::array<float, 4> x{}, y{}, z{};  ///< positions
+  std::array<float, 4> r{}, g{}, b{};  ///< colours, before any attenuation
+  bool attenuated = false;             ///< some light of the quad has distance attenuation
 };
 
 /// Traces and shades rays for one mode.
@@ -159,8 +179,9 @@ class Shader {
   const Scene& scene_;
   RenderSettings settings_;
   bool whitted_;
-  std::vector<float> highlightCutoffs_;  ///< by material index (see Shading.cpp)
-  Material defaultMaterial_{};           ///< for hits without a material, as RenderScene gives
+  std::vector<HighlightLimits> highlightLimits_;  ///< by material index (see Shading.cpp)
+  Material defaultMaterial_{};              ///< for hits without a material, as RenderScene gives
+  std::vector<PointLightQuad> pointQuads_;  ///< rs_.pointLights by four
 };
 
 }  // namespace tg::detail

@@ -1,7 +1,12 @@
 // Whitted and OpenGL-like shading and the debug modes (see Shader.h).
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <optional>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "Shader.h"
 #include "tracegraph/backend/render/Optics.h"
@@ -21,22 +26,12 @@ bool isBlack(const Vec3f& c) {
   return !(c.x > 0.0f || c.y > 0.0f || c.z > 0.0f);
 }
 
-/// Calls fn(LightSample, index) for every light of the scene, as seen from point p; `index`
-/// numbers the lights point, directional, then spot (Shader::lightCount of them in all).
+/// Calls fn(LightSample, index) for every directional and spot light of the scene, as seen
+/// from point p; `index` numbers the lights point (done by pointLightTerms), directional, then
+/// spot (Shader::lightCount of them in all).
 template <typename Fn>
-void forEachLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
-  std::size_t index = 0;
-  for (const PointLight& l : rs.pointLights) {
-    const std::size_t i = index++;
-    const Vec3f toLight = l.position - p;
-    const float distance = length(toLight);
-    if (!(distance > 0.0f)) continue;  // a light exactly at the point lights nothing
-    LightSample s;
-    s.direction = toLight / distance;
-    s.color = l.attenuation.none() ? l.color : l.color * l.attenuation.factor(distance);
-    s.position = l.position;
-    fn(s, i);
-  }
+void forEachOtherLight(const RenderScene& rs, const Vec3f& p, Fn&& fn) {
+  std::size_t index = rs.pointLights.size();
   for (const DirectionalLight& l : rs.directionalLights) {
     LightSample s;
     s.direction = -normalize(l.direction);
@@ -65,6 +60,26 @@ float highlightCutoff(float shine) {
   return shine > 0.0f ? std::exp2(-160.0f / shine) : 0.0f;
 }
 
+/// The cutoff, and where a highlight is too small to change the diffuse term it is added to.
+/// Below negligibleBelow = 2^(-34 / shine) (rounded to float: relative error 2^-24, which moves
+/// the bound on the power by less than a factor 2 up to shine 2^23), rv^shine < 2^-33 and powf
+/// (error under one ulp) returns at most 2^-32. The highlight specular * powf is then at most
+/// specular * 2^-32 (2^-32 scales exactly); for a diffuse term c >= specular * 2^-7 = 2^25 times
+/// that, it is below c * 2^-25, under half an ulp of c, so c + highlight rounds to c itself.
+/// c must also be > 0: adding a +0 highlight to -0 would give +0. The profile of the kitchen
+/// has most powers in that range.
+HighlightLimits highlightLimits(const Material& m) {
+  HighlightLimits h;
+  h.cutoff = highlightCutoff(m.shine);
+  const Vec3f absorbing = m.specular * 0x1p-7f;
+  // Only when scaling by 2^-7 lost no bits (not for denormal or flushed specular values).
+  if (m.shine > 0.0f && m.shine <= 0x1p23f && absorbing * 0x1p7f == m.specular) {
+    h.negligibleBelow = static_cast<float>(std::exp2(-34.0 / static_cast<double>(m.shine)));
+    h.absorbingDiffuse = absorbing;
+  }
+  return h;
+}
+
 /// Phong terms for unit normal n, unit view vector v and unit light vector l with nl = n.l > 0:
 /// diffuse max(0, n.l) + specular max(0, r.v)^shine. A highlight needs r.v > 0, so 0^0 (shine
 /// 0 facing away) counts as no highlight; below `cutoff` (see highlightCutoff) it is +0.
@@ -77,6 +92,226 @@ Vec3f phong(const Material& m, const Vec3f& diffuse, const Vec3f& n, const Vec3f
     if (rv > 0.0f && rv >= cutoff) c += m.specular * std::pow(rv, m.shine);
   }
   return c;
+}
+
+#if defined(__SSE2__)
+/// Four floats, one per light of a PointLightQuad. Every operation is the IEEE operation of the
+/// scalar code, lane by lane, so a lane holds bit for bit what the scalar code computes.
+struct Lanes {
+  __m128 v;
+};
+/// A true/false per lane, as SSE comparisons give it (all bits set or clear).
+struct LaneMask {
+  __m128 v;
+};
+Lanes load(const std::array<float, 4>& a) {
+  return {_mm_loadu_ps(a.data())};
+}
+Lanes splat(float f) {
+  return {_mm_set1_ps(f)};
+}
+void store(const Lanes& a, std::array<float, 4>& out) {
+  _mm_storeu_ps(out.data(), a.v);
+}
+Lanes operator+(Lanes a, Lanes b) {
+  return {_mm_add_ps(a.v, b.v)};
+}
+Lanes operator-(Lanes a, Lanes b) {
+  return {_mm_sub_ps(a.v, b.v)};
+}
+Lanes operator*(Lanes a, Lanes b) {
+  return {_mm_mul_ps(a.v, b.v)};
+}
+Lanes operator/(Lanes a, Lanes b) {
+  return {_mm_div_ps(a.v, b.v)};
+}
+Lanes sqrt(Lanes a) {
+  return {_mm_sqrt_ps(a.v)};
+}
+LaneMask operator>(Lanes a, Lanes b) {
+  return {_mm_cmpgt_ps(a.v, b.v)};
+}
+LaneMask operator>=(Lanes a, Lanes b) {
+  return {_mm_cmpge_ps(a.v, b.v)};
+}
+LaneMask operator<=(Lanes a, Lanes b) {
+  return {_mm_cmple_ps(a.v, b.v)};
+}
+LaneMask operator|(LaneMask a, LaneMask b) {
+  return {_mm_or_ps(a.v, b.v)};
+}
+LaneMask operator&(LaneMask a, LaneMask b) {
+  return {_mm_and_ps(a.v, b.v)};
+}
+/// a and not b.
+LaneMask andNot(LaneMask a, LaneMask b) {
+  return {_mm_andnot_ps(b.v, a.v)};
+}
+LaneMask allLanes(bool on) {
+  return {_mm_castsi128_ps(_mm_set1_epi32(on ? -1 : 0))};
+}
+/// Bit j set when lane j is true.
+unsigned bits(LaneMask m) {
+  return static_cast<unsigned>(_mm_movemask_ps(m.v));
+}
+/// a where m is true, b elsewhere.
+Lanes select(LaneMask m, Lanes a, Lanes b) {
+  return {_mm_or_ps(_mm_and_ps(m.v, a.v), _mm_andnot_ps(m.v, b.v))};
+}
+#else
+/// Four floats, one per light of a PointLightQuad (portable fallback of the SSE version).
+struct Lanes {
+  std::array<float, 4> v;
+};
+/// A true/false per lane, as bits.
+struct LaneMask {
+  unsigned v;
+};
+template <typename F>
+Lanes laneWise(F&& f) {
+  Lanes r;
+  for (std::size_t j = 0; j < 4; ++j) r.v[j] = f(j);
+  return r;
+}
+template <typename F>
+LaneMask maskWise(F&& f) {
+  unsigned m = 0;
+  for (std::size_t j = 0; j < 4; ++j) m |= f(j) ? 1u << j : 0u;
+  return {m};
+}
+Lanes load(const std::array<float, 4>& a) {
+  return {a};
+}
+Lanes splat(float f) {
+  return {{f, f, f, f}};
+}
+void store(const Lanes& a, std::array<float, 4>& out) {
+  out = a.v;
+}
+Lanes operator+(Lanes a, Lanes b) {
+  return laneWise([&](std::size_t j) { return a.v[j] + b.v[j]; });
+}
+Lanes operator-(Lanes a, Lanes b) {
+  return laneWise([&](std::size_t j) { return a.v[j] - b.v[j]; });
+}
+Lanes operator*(Lanes a, Lanes b) {
+  return laneWise([&](std::size_t j) { return a.v[j] * b.v[j]; });
+}
+Lanes operator/(Lanes a, Lanes b) {
+  return laneWise([&](std::size_t j) { return a.v[j] / b.v[j]; });
+}
+Lanes sqrt(Lanes a) {
+  return laneWise([&](std::size_t j) { return std::sqrt(a.v[j]); });
+}
+LaneMask operator>(Lanes a, Lanes b) {
+  return maskWise([&](std::size_t j) { return a.v[j] > b.v[j]; });
+}
+LaneMask operator>=(Lanes a, Lanes b) {
+  return maskWise([&](std::size_t j) { return a.v[j] >= b.v[j]; });
+}
+LaneMask operator<=(Lanes a, Lanes b) {
+  return maskWise([&](std::size_t j) { return a.v[j] <= b.v[j]; });
+}
+LaneMask operator|(LaneMask a, LaneMask b) {
+  return {a.v | b.v};
+}
+LaneMask operator&(LaneMask a, LaneMask b) {
+  return {a.v & b.v};
+}
+LaneMask andNot(LaneMask a, LaneMask b) {
+  return {a.v & ~b.v};
+}
+LaneMask allLanes(bool on) {
+  return {on ? 15u : 0u};
+}
+unsigned bits(LaneMask m) {
+  return m.v;
+}
+Lanes select(LaneMask m, Lanes a, Lanes b) {
+  return laneWise([&](std::size_t j) { return (m.v >> j & 1u) ? a.v[j] : b.v[j]; });
+}
+#endif
+
+/// The Phong terms of the four lights of a quad at one surface point.
+struct QuadTerms {
+  std::array<float, 4> r, g, b;  ///< light colour times the Phong terms (valid where added)
+  unsigned present = 0;          ///< bit j: light j is not exactly at the point
+  unsigned added = 0;            ///< bit j: light j adds a non-black term (a subset of present)
+};
+
+/// What forEachLightTerm computes for one point light (direction, attenuation, the tests that
+/// skip it, phong, the black test of the result), for the `count` lights of quad `q` (`lights`
+/// the first of them) at once, in the same IEEE operations lane by lane: identical terms, in a
+/// fraction of the instructions.
+QuadTerms pointLightTerms(const PointLightQuad& q, const PointLight* lights, std::size_t count,
+                          const SurfaceShading& sh) {
+  const Vec3f& p = sh.sd.position;
+  const Lanes zero = splat(0.0f);
+  const Lanes tx = load(q.x) - splat(p.x), ty = load(q.y) - splat(p.y), tz = load(q.z) - splat(p.z);
+  const Lanes distance = sqrt(tx * tx + ty * ty + tz * tz);  // length(toLight)
+  const Lanes dx = tx / distance, dy = ty / distance, dz = tz / distance;
+  auto dotDirection = [&](const Vec3f& n) {
+    return splat(n.x) * dx + splat(n.y) * dy + splat(n.z) * dz;
+  };
+  const Lanes nl = dotDirection(sh.ns), ngl = dotDirection(sh.ng);
+  Lanes cr = load(q.r), cg = load(q.g), cb = load(q.b);
+  if (q.attenuated) {
+    std::array<float, 4> d, r = q.r, g = q.g, b = q.b;
+    store(distance, d);
+    for (std::size_t j = 0; j < count; ++j) {
+      if (lights[j].attenuation.none()) continue;
+      const Vec3f c = lights[j].color * lights[j].attenuation.factor(d[j]);
+      r[j] = c.x;
+      g[j] = c.y;
+      b[j] = c.z;
+    }
+    cr = load(r);
+    cg = load(g);
+    cb = load(b);
+  }
+  // Lanes past `count` and lanes that fail a test compute garbage that no one reads.
+  const LaneMask present = distance > zero;
+  const LaneMask lightNotBlack = (cr > zero) | (cg > zero) | (cb > zero);
+  const LaneMask facing =
+      andNot(present & lightNotBlack & allLanes(sh.material.lit()), (nl <= zero) | (ngl <= zero));
+  // phong(): diffuse * nl, plus the highlight where r.v > 0 and r.v >= the cutoff.
+  const Material& m = sh.material;
+  Lanes r = splat(sh.diffuse.x) * nl, g = splat(sh.diffuse.y) * nl, b = splat(sh.diffuse.z) * nl;
+  if (m.reflective()) {
+    const Lanes twoNl = splat(2.0f) * nl;
+    const Lanes rx = splat(sh.ns.x) * twoNl - dx, ry = splat(sh.ns.y) * twoNl - dy,
+                rz = splat(sh.ns.z) * twoNl - dz;
+    const Lanes rv = rx * splat(sh.v.x) + ry * splat(sh.v.y) + rz * splat(sh.v.z);
+    const HighlightLimits& limits = sh.highlight;
+    const LaneMask absorbed = (splat(limits.negligibleBelow) > rv) & (r > zero) & (g > zero) &
+                              (b > zero) & (r >= splat(limits.absorbingDiffuse.x)) &
+                              (g >= splat(limits.absorbingDiffuse.y)) &
+                              (b >= splat(limits.absorbingDiffuse.z));
+    const LaneMask highlight =
+        andNot(facing & (rv > zero) & (rv >= splat(limits.cutoff)), absorbed);
+    if (const unsigned lanes = bits(highlight) & ((1u << count) - 1u)) {
+      std::array<float, 4> rvs, powers{};
+      store(rv, rvs);
+      for (std::size_t j = 0; j < count; ++j)
+        if (lanes >> j & 1u) powers[j] = std::pow(rvs[j], m.shine);
+      const Lanes power = load(powers);
+      r = select(highlight, r + splat(m.specular.x) * power, r);
+      g = select(highlight, g + splat(m.specular.y) * power, g);
+      b = select(highlight, b + splat(m.specular.z) * power, b);
+    }
+  }
+  r = cr * r;
+  g = cg * g;
+  b = cb * b;
+  const LaneMask added = facing & ((r > zero) | (g > zero) | (b > zero));
+  QuadTerms t;
+  store(r, t.r);
+  store(g, t.g);
+  store(b, t.b);
+  const unsigned used = (1u << count) - 1u;
+  t.present = bits(present) & used;
+  t.added = bits(added) & used;
+  return t;
 }
 
 /// Colours of the `classes` mode.
@@ -114,8 +349,23 @@ Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
       scene_(*scene.scene),
       settings_(settings),
       whitted_(settings.mode == RenderMode::Whitted) {
-  highlightCutoffs_.reserve(scene.materials.size());
-  for (const Material& m : scene.materials) highlightCutoffs_.push_back(highlightCutoff(m.shine));
+  highlightLimits_.reserve(scene.materials.size());
+  for (const Material& m : scene.materials) highlightLimits_.push_back(highlightLimits(m));
+  // Unused lanes of the last quad repeat a light; their results are never read.
+  const std::vector<PointLight>& lights = scene.pointLights;
+  pointQuads_.resize((lights.size() + 3) / 4);
+  for (std::size_t i = 0; i < pointQuads_.size() * 4; ++i) {
+    const PointLight& l = lights[std::min(i, lights.size() - 1)];
+    PointLightQuad& q = pointQuads_[i / 4];
+    const std::size_t j = i % 4;
+    q.x[j] = l.position.x;
+    q.y[j] = l.position.y;
+    q.z[j] = l.position.z;
+    q.r[j] = l.color.x;
+    q.g[j] = l.color.y;
+    q.b[j] = l.color.z;
+    q.attenuated = q.attenuated || !l.attenuation.none();
+  }
 }
 
 PixelSample Shader::shadePrimary(const Ray& ray, TraversalContext& ctx,
@@ -170,7 +420,7 @@ SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::Surf
   const std::uint32_t index = rs_.materialIndex(hit.instanceId, hit.objectId, hit.primId);
   const bool listed = index < rs_.materials.size();
   SurfaceShading sh{ray, hit, sd, listed ? rs_.materials[index] : defaultMaterial_};
-  sh.highlightCutoff = listed ? highlightCutoffs_[index] : highlightCutoff(defaultMaterial_.shine);
+  sh.highlight = listed ? highlightLimits_[index] : highlightLimits(defaultMaterial_);
   // Shade with the normals facing the incoming ray; the geometric normal alone decides the
   // side, because interpolated normals can disagree with it near silhouettes.
   sh.backFace = dot(sd.geometricNormal, ray.direction) > 0.0f;
@@ -199,35 +449,52 @@ const SurfacePoint& Shader::surface(SurfaceShading& sh) const {
 template <typename Slot, typename Fn>
 void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&& slot,
                               Fn&& fn) const {
-  const bool lit = sh.material.lit();
-  forEachLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t index) {
-    const float nl = dot(sh.ns, light.direction);
-    // Model only what the scene needs: no shadow ray when the light cannot change the colour.
-    if (!lit || isBlack(light.color) || nl <= 0.0f || dot(sh.ng, light.direction) <= 0.0f) {
-      if (whitted_) ++counters.saved.shadow;
-      return;
-    }
-    const Vec3f local = light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction,
-                                            nl, sh.highlightCutoff);
-    if (isBlack(local)) {
-      if (whitted_) ++counters.saved.shadow;
-      return;
-    }
-    // Filled in place: a term built aside and then copied cost more than the Phong terms
-    // (partial stores read back as one wide load stall the copy).
+  // Fills the term of light `index`, which adds `local`, and passes it on. Filled in place: a
+  // term built aside and then copied cost more than the Phong terms (partial stores read back
+  // as one wide load stall the copy).
+  auto add = [&](const Vec3f& local, std::size_t index, bool atInfinity, const Vec3f& direction,
+                 const Vec3f& position) {
     LightTerm& term = slot(index);
     term.local = local;
     term.contributes = true;
     term.needsShadowRay = false;
     if (whitted_) {
-      term.shadow = light.atInfinity ? spawnRay(surface(sh), light.direction)
-                                     : spawnRayTo(surface(sh), light.position);
+      term.shadow =
+          atInfinity ? spawnRay(surface(sh), direction) : spawnRayTo(surface(sh), position);
       if (term.shadow.tfar > 0.0f) {
         ++counters.traced.shadow;
         term.needsShadowRay = true;
       }
     }
     fn(term, index);
+  };
+  // Model only what the scene needs: no shadow ray when the light cannot change the colour.
+  const std::vector<PointLight>& points = rs_.pointLights;
+  for (std::size_t first = 0; first < points.size(); first += 4) {
+    const std::size_t count = std::min<std::size_t>(4, points.size() - first);
+    const QuadTerms q = pointLightTerms(pointQuads_[first / 4], points.data() + first, count, sh);
+    // A light exactly at the point lights nothing and saves nothing; present ones that add
+    // nothing save their shadow ray. Then the adding ones, in light order.
+    if (whitted_) counters.saved.shadow += std::popcount(q.present & ~q.added);
+    for (unsigned lanes = q.added; lanes != 0; lanes &= lanes - 1) {
+      const auto j = static_cast<std::size_t>(std::countr_zero(lanes));
+      add({q.r[j], q.g[j], q.b[j]}, first + j, false, {}, points[first + j].position);
+    }
+  }
+  const bool lit = sh.material.lit();
+  forEachOtherLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t index) {
+    const float nl = dot(sh.ns, light.direction);
+    if (!lit || isBlack(light.color) || nl <= 0.0f || dot(sh.ng, light.direction) <= 0.0f) {
+      if (whitted_) ++counters.saved.shadow;
+      return;
+    }
+    const Vec3f local = light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction,
+                                            nl, sh.highlight.cutoff);
+    if (isBlack(local)) {
+      if (whitted_) ++counters.saved.shadow;
+      return;
+    }
+    add(local, index, light.atInfinity, light.direction, light.position);
   });
 }
 

@@ -144,10 +144,23 @@ std::uint32_t wrap(long long i, std::uint32_t n) {
   return static_cast<std::uint32_t>(m < 0 ? m + n : m);
 }
 
-/// std::fmod(x, n) for n > 0. Within (-n, n), fmod returns x itself (signed zero included),
-/// so the common case needs no library call; NaN and infinities still go through fmod.
-double wrapCoordinate(double x, double n) {
-  return std::abs(x) < n ? x : std::fmod(x, n);
+/// Largest texture side for which a float coordinate times the side is exact in double: a
+/// 24-bit significand times at most 29 bits.
+constexpr std::uint32_t kExactScaleLimit = 1u << 29;
+
+/// std::fmod(c * n, n) in double, for a texture side n > 0. Within (-n, n), fmod returns its
+/// argument itself (signed zero included), so the common case needs no library call. Beyond,
+/// fmod(c n, n) = (c - trunc(c)) n exactly when c n is exact (n <= kExactScaleLimit): the
+/// fraction of a float is a float, and it times n is exact again. fmod gives a zero the sign of
+/// its argument, hence the copysign. NaN, infinities and larger sides go through fmod.
+double wrapCoordinate(float c, std::uint32_t n) {
+  const double x = static_cast<double>(c) * n;
+  if (std::abs(x) < n) return x;
+  if (n > kExactScaleLimit || !std::isfinite(c)) return std::fmod(x, static_cast<double>(n));
+  // From 2^23 on every float is an integer (and too large for the int32 conversion).
+  const float whole =
+      std::abs(c) < 8388608.0f ? static_cast<float>(static_cast<std::int32_t>(c)) : c;
+  return std::copysign(static_cast<double>(c - whole), static_cast<double>(c)) * n;
 }
 
 }  // namespace
@@ -214,9 +227,9 @@ Vec3f Texture::texel(long long x, long long y) const {
 Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
   if (image_.empty()) return {1.0f, 1.0f, 1.0f};
   // Work in double: u * width for u of a few thousand repeats must still pick the right texel.
-  // fmod (exact) keeps huge coordinates from overflowing the integer conversion below.
-  const double x = wrapCoordinate(static_cast<double>(uv.u) * image_.width(), image_.width());
-  const double y = wrapCoordinate(static_cast<double>(uv.v) * image_.height(), image_.height());
+  // The (exact) remainder keeps huge coordinates from overflowing the integer conversion below.
+  const double x = wrapCoordinate(uv.u, image_.width());
+  const double y = wrapCoordinate(uv.v, image_.height());
   if (!std::isfinite(x) || !std::isfinite(y)) return texel(0, 0);
   if (filter == TextureFilter::Nearest)
     return texel(static_cast<long long>(std::floor(x)), static_cast<long long>(std::floor(y)));

@@ -38,6 +38,14 @@ class Camera {
   /// Primary ray through the image-plane position (px, py) in pixel units (pixel centres are at
   /// half-integers); primaryRay(x, y) is primaryRayAt(x + 0.5, y + 0.5).
   Ray primaryRayAt(double px, double py) const;
+  /// The image-plane coordinate (at distance 1, along the right axis) of pixel position px.
+  /// It depends on px alone, so that a block of pixels computes it once per column:
+  /// primaryRayAt(px, py) is rayThroughPlane(planeX(px), planeY(py)), bit for bit.
+  double planeX(double px) const;
+  /// The image-plane coordinate (at distance 1, along the up axis) of pixel position py.
+  double planeY(double py) const;
+  /// The primary ray through the image-plane point (sx, sy) as planeX and planeY give them.
+  Ray rayThroughPlane(double sx, double sy) const;
 
   /// The parameters the camera was made from.
   const CameraParams& params() const { return params_; }
