@@ -289,17 +289,21 @@ struct TopLevelPacketWalk {
 
   /// Loads the world rays of `lanes` whose direction signs match the first lane's.
   unsigned load(unsigned lanes, PacketBoxRays& boxRays) {
+    // All eight rays straight into their rows, directions where the reciprocals go
+    // (setPacketReciprocals divides them). Lanes outside `coherent` get the first lane's values.
+    float* const rows[8] = {boxRays.origin[0],     boxRays.origin[1],     boxRays.origin[2],
+                            boxRays.tnear,         boxRays.reciprocal[0], boxRays.reciprocal[1],
+                            boxRays.reciprocal[2], boxRays.tfar};
+    loadRayRows(rays, rows);
     const unsigned firstLane = static_cast<unsigned>(__builtin_ctz(lanes));
-    const unsigned signs = directionSigns(rays[firstLane].direction);
-    unsigned coherent = 0;
-    for (unsigned m = lanes; m != 0; m &= m - 1) {
-      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-      const Ray& r = rays[l];
-      if (directionSigns(r.direction) != signs) continue;
-      const float tfar = hits ? std::min(r.tfar, hits[l].t) : r.tfar;
-      setPacketLaneDirection(boxRays, l, r.origin, r.direction, r.tnear, tfar);
-      coherent |= 1u << l;
+    unsigned coherent = lanes, signs = 0;
+    for (int a = 0; a < 3; ++a) {
+      const unsigned negative = negativeLanes(boxRays.reciprocal[a]);
+      const bool leadNegative = (negative >> firstLane) & 1u;
+      signs |= (leadNegative ? 1u : 0u) << a;
+      coherent &= leadNegative ? negative : ~negative;
     }
+    if (hits) lowerToHits(boxRays.tfar, hits);
     setPacketRows(boxRays, signs);
     fillUnusedLanes(boxRays, coherent, firstLane);
     setPacketReciprocals(boxRays);
