@@ -186,11 +186,12 @@ struct TopLevelPacketWalk {
   }
 
   /// The loaded form of the identity packet for a BvhAccel, with the tfar of `lanes` as the
-  /// packet holds it now (objectPacket must have been called for them).
-  BvhPacketRays& identityBvhRays(unsigned lanes) {
+  /// packet holds it now (objectPacket must have been called for them); `world` holds the
+  /// walk's box rays.
+  BvhPacketRays& identityBvhRays(unsigned lanes, const PacketBoxRays& world) {
     ObjectRayPacket& packet = identity.get();
     if (!identityBvhReady) {
-      BvhAccel::loadPacket(packet, walkLanes, identityBvh);
+      BvhAccel::loadIdentityPacket(packet, world, walkLanes, identityBvh);
       identityBvhReady = true;
     }
     for (unsigned m = lanes; m != 0; m &= m - 1) {
@@ -210,7 +211,7 @@ struct TopLevelPacketWalk {
       });
       unsigned changed = 0;
       if (inst.identity && isBvhAccel(*inst.accel)) {
-        BvhPacketRays& loaded = w.identityBvhRays(lanes);
+        BvhPacketRays& loaded = w.identityBvhRays(lanes, boxRays);
         const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
         changed =
             bvh.intersectLoadedPacket(packet, loaded, lanes & loaded.coherent, w.hits, *w.ctx) |
@@ -227,7 +228,7 @@ struct TopLevelPacketWalk {
   }
 
   static unsigned occludedLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
-                               PacketBoxRays&) {
+                               PacketBoxRays& boxRays) {
     auto& w = *static_cast<TopLevelPacketWalk*>(user);
     unsigned blocked = 0;
     for (std::uint32_t k = first; k < first + count && lanes != 0; ++k) {
@@ -236,7 +237,7 @@ struct TopLevelPacketWalk {
           w.objectPacket(inst, lanes, [&](unsigned l) { return w.rays[l].tfar; });
       unsigned found = 0;
       if (inst.identity && isBvhAccel(*inst.accel)) {
-        BvhPacketRays& loaded = w.identityBvhRays(lanes);
+        BvhPacketRays& loaded = w.identityBvhRays(lanes, boxRays);
         const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
         found = bvh.occludedLoadedPacket(packet, loaded, lanes & loaded.coherent, *w.ctx) |
                 bvh.occludedPacket(packet, lanes & ~loaded.coherent, *w.ctx);
