@@ -353,6 +353,8 @@ struct PacketLeafContext {
   const BvhAccel* accel;
   TraversalContext* ctx;
   const BvhPacketRays* rays;
+  /// The kernels of the walk, looked up once rather than per filter call.
+  const PacketKernels* kernels;
 };
 
 /// The closest-hit callbacks' context: they lower the lanes' tfar in the packet itself.
@@ -381,8 +383,8 @@ void forEachCandidate(const PacketLeafContext& c, std::uint32_t first, std::uint
     unsigned candidates[kFilterBatch];
     for (std::uint32_t base = first; base < first + count && live != 0; base += kFilterBatch) {
       const std::uint32_t n = std::min(kFilterBatch, first + count - base);
-      activePacketKernels().filterTriangles(c.accel->triangleFloats(base), n, c.rays->triangles,
-                                            live, candidates);
+      c.kernels->filterTriangles(c.accel->triangleFloats(base), n, c.rays->triangles, live,
+                                 candidates);
       for (std::uint32_t i = 0; i < n; ++i)
         for (unsigned m = candidates[i] & live; m != 0; m &= m - 1) {
           const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
@@ -511,10 +513,11 @@ unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays&
   c.accel = this;
   c.ctx = &ctx;
   c.rays = &rays;
+  c.kernels = &activePacketKernels();
   c.packet = &packet;
   c.hits = hits;
-  activePacketKernels().traverse(nodes_.data(), rays.box, lanes, false, &intersectPacketLeaf,
-                                 &intersectSingleLane, &c, ctx.nodeVisits);
+  c.kernels->traverse(nodes_.data(), rays.box, lanes, false, &intersectPacketLeaf,
+                      &intersectSingleLane, &c, ctx.nodeVisits);
   return c.changed;
 }
 
@@ -526,9 +529,10 @@ unsigned BvhAccel::occludedLoadedPacket(const ObjectRayPacket& packet, BvhPacket
   c.accel = this;
   c.ctx = &ctx;
   c.rays = &rays;
+  c.kernels = &activePacketKernels();
   c.packet = &packet;
-  return activePacketKernels().traverse(nodes_.data(), rays.box, lanes, true, &occludedPacketLeaf,
-                                        &occludedSingleLane, &c, ctx.nodeVisits);
+  return c.kernels->traverse(nodes_.data(), rays.box, lanes, true, &occludedPacketLeaf,
+                             &occludedSingleLane, &c, ctx.nodeVisits);
 }
 
 unsigned BvhAccel::intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit* hits,

@@ -181,22 +181,24 @@ struct TopLevelPacketWalk {
       r.tfar = tfar(l);
       r.instanceId = inst.instanceId;
       r.objectId = inst.objectId;
+      // Kept equal in the loaded form too (see identityBvhRays), in the same pass.
+      identityBvh.box.tfar[l] = r.tfar;
     }
     return packet;
   }
 
   /// The loaded form of the identity packet for a BvhAccel, with the tfar of `lanes` as the
-  /// packet holds it now (objectPacket must have been called for them); `world` holds the
-  /// walk's box rays.
+  /// packet holds it now (objectPacket must have been called for them, and keeps the loaded
+  /// tfar once loaded); `world` holds the walk's box rays.
   BvhPacketRays& identityBvhRays(unsigned lanes, const PacketBoxRays& world) {
-    ObjectRayPacket& packet = identity.get();
     if (!identityBvhReady) {
+      const ObjectRayPacket& packet = identity.get();
       BvhAccel::loadIdentityPacket(packet, world, walkLanes, identityBvh);
       identityBvhReady = true;
-    }
-    for (unsigned m = lanes; m != 0; m &= m - 1) {
-      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-      identityBvh.box.tfar[l] = packet.rays[l].tfar;
+      for (unsigned m = lanes; m != 0; m &= m - 1) {
+        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+        identityBvh.box.tfar[l] = packet.rays[l].tfar;
+      }
     }
     return identityBvh;
   }
