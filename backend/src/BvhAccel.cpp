@@ -353,6 +353,8 @@ struct PacketLeafContext {
   const BvhAccel* accel;
   TraversalContext* ctx;
   const BvhPacketRays* rays;
+  /// The kernels of the walk, looked up once rather than per filter call.
+  const PacketKernels* kernels;
 };
 
 /// The closest-hit callbacks' context: they lower the lanes' tfar in the packet itself.
@@ -381,8 +383,8 @@ void forEachCandidate(const PacketLeafContext& c, std::uint32_t first, std::uint
     unsigned candidates[kFilterBatch];
     for (std::uint32_t base = first; base < first + count && live != 0; base += kFilterBatch) {
       const std::uint32_t n = std::min(kFilterBatch, first + count - base);
-      activePacketKernels().filterTriangles(c.accel->triangleFloats(base), n, c.rays->triangles,
-                                            live, candidates);
+      c.kernels->filterTriangles(c.accel->triangleFloats(base), n, c.rays->triangles, live,
+                                 candidates);
       for (std::uint32_t i = 0; i < n; ++i)
         for (unsigned m = candidates[i] & live; m != 0; m &= m - 1) {
           const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
@@ -440,29 +442,24 @@ unsigned occludedSingleLane(void* user, std::uint32_t child, unsigned lane, Pack
 
 }  // namespace
 
-void BvhAccel::loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPacketRays& out) {
-  // Only the lanes whose direction signs match the first lane's share the box rows; of those,
-  // the ones with the first lane's axis permutation share the pre-filter's layout.
-  const unsigned first = static_cast<unsigned>(__builtin_ctz(lanes));
-  const WatertightRay& lead = packet.rays[first].wt;
-  const unsigned signs = directionSigns(lead.direction);
-  PacketBoxRays& box = out.box;
+namespace {
+
+/// The pre-filter part of BvhAccel::loadPacket for its lanes `coherent` (first lane included):
+/// the ones with the first lane's axis permutation share the pre-filter's layout.
+void loadPacketTriangles(const ObjectRayPacket& packet, unsigned coherent, BvhPacketRays& out) {
+  const WatertightRay& lead = packet.rays[__builtin_ctz(coherent)].wt;
   PacketTriangleRays& tri = out.triangles;
-  unsigned coherent = 0, filtered = 0;
+  unsigned filtered = 0;
   tri.kx = lead.kx;
   tri.ky = lead.ky;
   tri.kz = lead.kz;
-  for (unsigned m = lanes; m != 0; m &= m - 1) {
+  for (unsigned m = coherent; m != 0; m &= m - 1) {
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-    const ObjectRay& r = packet.rays[l];
-    if (directionSigns(r.wt.direction) != signs) continue;
-    setPacketLaneWithReciprocal(box, l, r.wt.origin, r.wt.direction, r.inverseDirection, r.wt.tnear,
-                                r.tfar);
-    coherent |= 1u << l;
-    if (r.wt.kx == lead.kx && r.wt.ky == lead.ky && r.wt.kz == lead.kz) {
-      for (int a = 0; a < 3; ++a) tri.origin[a][l] = r.wt.origin[a];
-      tri.sx[l] = r.wt.sx;
-      tri.sy[l] = r.wt.sy;
+    const WatertightRay& r = packet.rays[l].wt;
+    if (r.kx == lead.kx && r.ky == lead.ky && r.kz == lead.kz) {
+      for (int a = 0; a < 3; ++a) tri.origin[a][l] = r.origin[a];
+      tri.sx[l] = r.sx;
+      tri.sy[l] = r.sy;
       filtered |= 1u << l;
     }
   }
@@ -473,10 +470,38 @@ void BvhAccel::loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPack
     tri.sx[l] = lead.sx;
     tri.sy[l] = lead.sy;
   }
-  setPacketRows(box, signs);
-  fillUnusedLanes(box, coherent, first);
   out.coherent = coherent;
   out.filtered = filtered;
+}
+
+}  // namespace
+
+void BvhAccel::loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPacketRays& out) {
+  // Only the lanes whose direction signs match the first lane's share the box rows.
+  const unsigned first = static_cast<unsigned>(__builtin_ctz(lanes));
+  const unsigned signs = directionSigns(packet.rays[first].wt.direction);
+  PacketBoxRays& box = out.box;
+  unsigned coherent = 0;
+  for (unsigned m = lanes; m != 0; m &= m - 1) {
+    const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+    const ObjectRay& r = packet.rays[l];
+    if (directionSigns(r.wt.direction) != signs) continue;
+    setPacketLaneWithReciprocal(box, l, r.wt.origin, r.wt.direction, r.inverseDirection, r.wt.tnear,
+                                r.tfar);
+    coherent |= 1u << l;
+  }
+  setPacketRows(box, signs);
+  fillUnusedLanes(box, coherent, first);
+  loadPacketTriangles(packet, coherent, out);
+}
+
+void BvhAccel::loadIdentityPacket(const ObjectRayPacket& packet, const PacketBoxRays& world,
+                                  unsigned lanes, BvhPacketRays& out) {
+  // An identity instance's object rays are the world rays (origin, tnear, and reciprocals that
+  // are correctly rounded quotients either way, +inf for zeros in the box rows), so every lane
+  // has the world signs and the box rows are the world's.
+  out.box = world;
+  loadPacketTriangles(packet, lanes, out);
 }
 
 unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays,
@@ -488,10 +513,11 @@ unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays&
   c.accel = this;
   c.ctx = &ctx;
   c.rays = &rays;
+  c.kernels = &activePacketKernels();
   c.packet = &packet;
   c.hits = hits;
-  activePacketKernels().traverse(nodes_.data(), rays.box, lanes, false, &intersectPacketLeaf,
-                                 &intersectSingleLane, &c, ctx.nodeVisits);
+  c.kernels->traverse(nodes_.data(), rays.box, lanes, false, &intersectPacketLeaf,
+                      &intersectSingleLane, &c, ctx.nodeVisits);
   return c.changed;
 }
 
@@ -503,9 +529,10 @@ unsigned BvhAccel::occludedLoadedPacket(const ObjectRayPacket& packet, BvhPacket
   c.accel = this;
   c.ctx = &ctx;
   c.rays = &rays;
+  c.kernels = &activePacketKernels();
   c.packet = &packet;
-  return activePacketKernels().traverse(nodes_.data(), rays.box, lanes, true, &occludedPacketLeaf,
-                                        &occludedSingleLane, &c, ctx.nodeVisits);
+  return c.kernels->traverse(nodes_.data(), rays.box, lanes, true, &occludedPacketLeaf,
+                             &occludedSingleLane, &c, ctx.nodeVisits);
 }
 
 unsigned BvhAccel::intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit* hits,

@@ -2,6 +2,7 @@
 // header: not installed, and never included by the kernel translation units.
 #pragma once
 
+#include <algorithm>
 #include <limits>
 
 #if defined(__SSE2__)
@@ -9,6 +10,7 @@
 #endif
 
 #include "PacketKernel.h"
+#include "tracegraph/backend/Ray.h"
 #include "tracegraph/backend/Vec3.h"
 
 namespace tg::detail {
@@ -43,20 +45,7 @@ inline void setPacketLaneWithReciprocal(PacketBoxRays& rays, unsigned lane, cons
   rays.tfar[lane] = tfar;
 }
 
-/// setPacketLaneWithReciprocal for a ray whose reciprocal is not known yet: leaves the lane's
-/// direction where its reciprocal goes; after every lane and fillUnusedLanes,
-/// setPacketReciprocals turns all of them into reciprocals at once.
-inline void setPacketLaneDirection(PacketBoxRays& rays, unsigned lane, const Vec3f& origin,
-                                   const Vec3f& direction, float tnear, float tfar) {
-  for (int a = 0; a < 3; ++a) {
-    rays.origin[a][lane] = origin[a];
-    rays.reciprocal[a][lane] = direction[a];
-  }
-  rays.tnear[lane] = tnear;
-  rays.tfar[lane] = tfar;
-}
-
-/// Replaces the directions that setPacketLaneDirection left in rays.reciprocal by Bvh4Ray's
+/// Replaces directions held in rays.reciprocal (every lane, unused ones filled) by Bvh4Ray's
 /// reciprocals (1/d, +inf for +-0), four lanes per division where SSE is available:
 /// a correctly rounded quotient is the same whether computed alone or in a vector.
 inline void setPacketReciprocals(PacketBoxRays& rays) {
@@ -92,15 +81,100 @@ inline void setPacketRows(PacketBoxRays& rays, unsigned signs) {
 /// Copies lane `from` into every lane outside `lanes`, so that the kernel's full-width
 /// arithmetic on unused lanes sees ordinary numbers (their results are masked off).
 inline void fillUnusedLanes(PacketBoxRays& rays, unsigned lanes, unsigned from) {
-  for (unsigned l = 0; l < kPacketLanes; ++l) {
-    if (lanes & (1u << l)) continue;
-    for (int a = 0; a < 3; ++a) {
-      rays.origin[a][l] = rays.origin[a][from];
-      rays.reciprocal[a][l] = rays.reciprocal[a][from];
+  static_assert(sizeof(PacketBoxRays::origin) + sizeof(PacketBoxRays::reciprocal) +
+                        sizeof(PacketBoxRays::tnear) + sizeof(PacketBoxRays::tfar) ==
+                    8 * kPacketLanes * sizeof(float),
+                "the box rays begin with eight rows of lanes");
+  if (lanes == kAllLanes) return;
+  // The eight rows are contiguous: one blend per half row, instead of a branch per lane and row.
+  float* rows = rays.origin[0];
+#if defined(__SSE2__)
+  static_assert(kPacketLanes == 8, "two halves of four lanes");
+  const __m128i bits = _mm_setr_epi32(1, 2, 4, 8);
+  const __m128i word = _mm_set1_epi32(static_cast<int>(lanes));
+  const __m128 keep[2] = {
+      _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(word, bits), bits)),
+      _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_srli_epi32(word, 4), bits), bits))};
+  for (unsigned r = 0; r < 8; ++r) {
+    float* row = rows + r * kPacketLanes;
+    const __m128 lead = _mm_set1_ps(row[from]);
+    for (unsigned h = 0; h < 2; ++h) {
+      const __m128 v = _mm_load_ps(row + 4 * h);
+      _mm_store_ps(row + 4 * h, _mm_or_ps(_mm_and_ps(keep[h], v), _mm_andnot_ps(keep[h], lead)));
     }
-    rays.tnear[l] = rays.tnear[from];
-    rays.tfar[l] = rays.tfar[from];
   }
+#else
+  for (unsigned r = 0; r < 8; ++r) {
+    float* row = rows + r * kPacketLanes;
+    for (unsigned l = 0; l < kPacketLanes; ++l)
+      if (!(lanes & (1u << l))) row[l] = row[from];
+  }
+#endif
+}
+
+/// Rays rays[0..kPacketLanes) as rows of lanes: row r holds float r of every ray, in Ray's
+/// member order (origin x, y, z, tnear, direction x, y, z, tfar).
+struct alignas(16) PacketRayRows {
+  /// Row per Ray member float, lane per ray.
+  float row[8][kPacketLanes];
+};
+
+/// Writes float r of every ray of rays[0..kPacketLanes) (all of them are read) into row[r], a
+/// 16-byte aligned row of kPacketLanes floats, in Ray's member order. A transpose of 4 x 4
+/// blocks where SSE is available: the per-lane copies it replaces were a large share of a
+/// packet's set-up.
+inline void loadRayRows(const Ray* rays, float* const (&row)[8]) {
+  static_assert(sizeof(Ray) == 8 * sizeof(float), "a ray is eight packed floats");
+  const auto* f = reinterpret_cast<const float*>(rays);
+#if defined(__SSE2__)
+  static_assert(kPacketLanes == 8, "two blocks of four lanes");
+  for (unsigned h = 0; h < kPacketLanes; h += 4)
+    for (unsigned q = 0; q < 8; q += 4) {
+      __m128 r0 = _mm_loadu_ps(f + 8 * h + q), r1 = _mm_loadu_ps(f + 8 * (h + 1) + q);
+      __m128 r2 = _mm_loadu_ps(f + 8 * (h + 2) + q), r3 = _mm_loadu_ps(f + 8 * (h + 3) + q);
+      _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+      _mm_store_ps(row[q] + h, r0);
+      _mm_store_ps(row[q + 1] + h, r1);
+      _mm_store_ps(row[q + 2] + h, r2);
+      _mm_store_ps(row[q + 3] + h, r3);
+    }
+#else
+  for (unsigned l = 0; l < kPacketLanes; ++l)
+    for (unsigned r = 0; r < 8; ++r) row[r][l] = f[8 * l + r];
+#endif
+}
+
+/// loadRayRows into `out`.
+inline void loadRayRows(const Ray* rays, PacketRayRows& out) {
+  float* const row[8] = {out.row[0], out.row[1], out.row[2], out.row[3],
+                         out.row[4], out.row[5], out.row[6], out.row[7]};
+  loadRayRows(rays, row);
+}
+
+/// Lowers tfar[l] to hits[l].t for every lane (std::min(tfar[l], hits[l].t), bit for bit).
+inline void lowerToHits(float* tfar, const Hit* hits) {
+  alignas(16) float t[kPacketLanes];
+  for (unsigned l = 0; l < kPacketLanes; ++l) t[l] = hits[l].t;
+#if defined(__SSE2__)
+  // MINPS(a, b) is a < b ? a : b, which is std::min(b, a).
+  for (unsigned h = 0; h < kPacketLanes; h += 4)
+    _mm_store_ps(tfar + h, _mm_min_ps(_mm_load_ps(t + h), _mm_load_ps(tfar + h)));
+#else
+  for (unsigned l = 0; l < kPacketLanes; ++l) tfar[l] = std::min(tfar[l], t[l]);
+#endif
+}
+
+/// The lanes whose row value is < 0 (not -0, not NaN), as directionSigns tests a component.
+inline unsigned negativeLanes(const float* row) {
+#if defined(__SSE2__)
+  const __m128 zero = _mm_setzero_ps();
+  return static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(_mm_load_ps(row), zero))) |
+         static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(_mm_load_ps(row + 4), zero))) << 4;
+#else
+  unsigned out = 0;
+  for (unsigned l = 0; l < kPacketLanes; ++l) out |= (row[l] < 0.0f ? 1u : 0u) << l;
+  return out;
+#endif
 }
 
 /// Packets with fewer coherent lanes than this are traced as single rays: the shared walk

@@ -181,21 +181,24 @@ struct TopLevelPacketWalk {
       r.tfar = tfar(l);
       r.instanceId = inst.instanceId;
       r.objectId = inst.objectId;
+      // Kept equal in the loaded form too (see identityBvhRays), in the same pass.
+      identityBvh.box.tfar[l] = r.tfar;
     }
     return packet;
   }
 
   /// The loaded form of the identity packet for a BvhAccel, with the tfar of `lanes` as the
-  /// packet holds it now (objectPacket must have been called for them).
-  BvhPacketRays& identityBvhRays(unsigned lanes) {
-    ObjectRayPacket& packet = identity.get();
+  /// packet holds it now (objectPacket must have been called for them, and keeps the loaded
+  /// tfar once loaded); `world` holds the walk's box rays.
+  BvhPacketRays& identityBvhRays(unsigned lanes, const PacketBoxRays& world) {
     if (!identityBvhReady) {
-      BvhAccel::loadPacket(packet, walkLanes, identityBvh);
+      const ObjectRayPacket& packet = identity.get();
+      BvhAccel::loadIdentityPacket(packet, world, walkLanes, identityBvh);
       identityBvhReady = true;
-    }
-    for (unsigned m = lanes; m != 0; m &= m - 1) {
-      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-      identityBvh.box.tfar[l] = packet.rays[l].tfar;
+      for (unsigned m = lanes; m != 0; m &= m - 1) {
+        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+        identityBvh.box.tfar[l] = packet.rays[l].tfar;
+      }
     }
     return identityBvh;
   }
@@ -210,7 +213,7 @@ struct TopLevelPacketWalk {
       });
       unsigned changed = 0;
       if (inst.identity && isBvhAccel(*inst.accel)) {
-        BvhPacketRays& loaded = w.identityBvhRays(lanes);
+        BvhPacketRays& loaded = w.identityBvhRays(lanes, boxRays);
         const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
         changed =
             bvh.intersectLoadedPacket(packet, loaded, lanes & loaded.coherent, w.hits, *w.ctx) |
@@ -227,7 +230,7 @@ struct TopLevelPacketWalk {
   }
 
   static unsigned occludedLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
-                               PacketBoxRays&) {
+                               PacketBoxRays& boxRays) {
     auto& w = *static_cast<TopLevelPacketWalk*>(user);
     unsigned blocked = 0;
     for (std::uint32_t k = first; k < first + count && lanes != 0; ++k) {
@@ -236,7 +239,7 @@ struct TopLevelPacketWalk {
           w.objectPacket(inst, lanes, [&](unsigned l) { return w.rays[l].tfar; });
       unsigned found = 0;
       if (inst.identity && isBvhAccel(*inst.accel)) {
-        BvhPacketRays& loaded = w.identityBvhRays(lanes);
+        BvhPacketRays& loaded = w.identityBvhRays(lanes, boxRays);
         const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
         found = bvh.occludedLoadedPacket(packet, loaded, lanes & loaded.coherent, *w.ctx) |
                 bvh.occludedPacket(packet, lanes & ~loaded.coherent, *w.ctx);
@@ -289,17 +292,21 @@ struct TopLevelPacketWalk {
 
   /// Loads the world rays of `lanes` whose direction signs match the first lane's.
   unsigned load(unsigned lanes, PacketBoxRays& boxRays) {
+    // All eight rays straight into their rows, directions where the reciprocals go
+    // (setPacketReciprocals divides them). Lanes outside `coherent` get the first lane's values.
+    float* const rows[8] = {boxRays.origin[0],     boxRays.origin[1],     boxRays.origin[2],
+                            boxRays.tnear,         boxRays.reciprocal[0], boxRays.reciprocal[1],
+                            boxRays.reciprocal[2], boxRays.tfar};
+    loadRayRows(rays, rows);
     const unsigned firstLane = static_cast<unsigned>(__builtin_ctz(lanes));
-    const unsigned signs = directionSigns(rays[firstLane].direction);
-    unsigned coherent = 0;
-    for (unsigned m = lanes; m != 0; m &= m - 1) {
-      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-      const Ray& r = rays[l];
-      if (directionSigns(r.direction) != signs) continue;
-      const float tfar = hits ? std::min(r.tfar, hits[l].t) : r.tfar;
-      setPacketLaneDirection(boxRays, l, r.origin, r.direction, r.tnear, tfar);
-      coherent |= 1u << l;
+    unsigned coherent = lanes, signs = 0;
+    for (int a = 0; a < 3; ++a) {
+      const unsigned negative = negativeLanes(boxRays.reciprocal[a]);
+      const bool leadNegative = (negative >> firstLane) & 1u;
+      signs |= (leadNegative ? 1u : 0u) << a;
+      coherent &= leadNegative ? negative : ~negative;
     }
+    if (hits) lowerToHits(boxRays.tfar, hits);
     setPacketRows(boxRays, signs);
     fillUnusedLanes(boxRays, coherent, firstLane);
     setPacketReciprocals(boxRays);
