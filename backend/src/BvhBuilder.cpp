@@ -6,10 +6,12 @@
 // Every range is binned at most once (pairs need no bins): the split (or the decision to make it
 // a leaf) travels with the range into the node that applies it, with the bounds of both sides
 // taken from the bins. Large ranges bin in parallel and build their subtrees as parallel tasks;
-// the largest partition their two halves in place in parallel. (A stable parallel partition
-// through a second buffer was tried: it does about twice the work of the serial one and was no
-// faster on two threads.) Small subtrees number their nodes on their own thread and join the
-// tree as one block.
+// the partition itself stays serial, which costs one pass over the primitives per level of the
+// few top levels. Two parallel partitions were tried and were slower on two threads: a stable
+// one through a second buffer (twice the work), and one that partitions the two halves in
+// place and swaps the misplaced runs (its halves' lines are in the other core's cache after the
+// parallel binning, so each half took as long as the whole range on one thread). Small subtrees
+// number their nodes on their own thread and join the tree as one block.
 #include "BvhBuilder.h"
 
 #include "Bvh4Refit.h"
@@ -17,7 +19,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
@@ -37,11 +38,6 @@ constexpr int kMedianDepth = 32;
 /// Ranges with at least this many primitives bin into two alternating bin sets (see
 /// BinSet::addInterleaved); below it, preparing and merging the second set costs more.
 constexpr std::size_t kInterleaveMin = 256;
-
-/// Ranges with at least this many primitives partition their two halves in parallel (the few
-/// ranges at the top of the tree, which would otherwise be partitioned by one thread while the
-/// other waits).
-constexpr std::size_t kParallelPartitionMin = 32768;
 
 /// Primitives per extra bin beyond four in binCountFor.
 constexpr std::size_t kPrimsPerBin = 20;
@@ -326,31 +322,7 @@ class Builder {
       const auto partition = split.axis == 0   ? partitionBinned<0>
                              : split.axis == 1 ? partitionBinned<1>
                                                : partitionBinned<2>;
-      const auto run = [&](std::size_t begin, std::size_t end, SseBox& l, SseBox& h) {
-        return partition(p, begin, end, split.origin, split.scale, split.bins, split.bin, l, h);
-      };
-      if (r.count() < kParallelPartitionMin) {
-        mid = run(r.begin, r.end, lc, rc);
-      } else {
-        // The two halves partition in parallel, then the right-side run of the first half and
-        // the left-side run of the second trade places: the shorter run swaps with the far end
-        // of the longer one. The halves are cut by count alone, so the order (and the tree)
-        // does not depend on the number of threads.
-        const std::size_t half = r.begin + r.count() / 2;
-        SseBox lc2, rc2;
-        std::size_t mid1 = 0, mid2 = 0;
-        tbb::parallel_invoke([&] { mid1 = run(r.begin, half, lc, rc); },
-                             [&] { mid2 = run(half, r.end, lc2, rc2); });
-        lc.extend(lc2);
-        rc.extend(rc2);
-        const std::size_t rightOfFirst = half - mid1, leftOfSecond = mid2 - half;
-        if (rightOfFirst <= leftOfSecond) {
-          std::swap_ranges(p + mid1, p + half, p + mid2 - rightOfFirst);
-        } else {
-          std::swap_ranges(p + half, p + mid2, p + mid1);
-        }
-        mid = mid1 + leftOfSecond;
-      }
+      mid = partition(p, r.begin, r.end, split.origin, split.scale, split.bins, split.bin, lc, rc);
       left = {r.begin, mid, split.leftBounds, lc};
       right = {mid, r.end, split.rightBounds, rc};
       return;

@@ -1,7 +1,7 @@
 // The binned-SAH BVH4 builder on its own: tree structure (every primitive in exactly one leaf,
 // tight boxes, leaf sizes), awkward inputs (no primitive, one, equal centroids, point boxes),
-// the same tree whatever the thread count on the parallel paths (subtree tasks, the parallel
-// partition of large ranges, the SAH cost gathered on the way), and the SSE bin mapping
+// the same tree whatever the thread count on the parallel paths (subtree tasks, subtrees
+// numbered on their own thread, the SAH cost gathered on the way), and the SSE bin mapping
 // agreeing with the scalar one the partition uses.
 #define BOOST_TEST_MODULE bvh_sah_builder
 #include <boost/test/unit_test.hpp>
