@@ -84,7 +84,8 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
         if (hit[s] == 0) continue;
         int j = n++;
         if (!anyHit) {
-          // Any-hit queries visit children in slot order and need no key.
+          // Any-hit packets visit children in slot order and need no key: ordering them as the
+          // single-ray walk does measured no faster for packets of shadow rays.
           const float k = NodeTest::minEntry(entry[s], hit[s]);
           for (; j > 0 && key[j - 1] > k; --j) {
             key[j] = key[j - 1];
