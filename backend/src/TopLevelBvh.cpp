@@ -313,6 +313,31 @@ struct TopLevelPacketWalk {
     walkLanes = coherent;
     return coherent;
   }
+
+  /// Walks `lanes` of `rays` group by group: each group of equal direction signs walks as a
+  /// packet of its own with the query's callbacks (`anyHit`, `leaf`, `single`). Returns what
+  /// the walks return (any hit: the lanes found occluded) and leaves in `lanes` those still to
+  /// be traced alone: the groups too small for a packet, and what remains below
+  /// kMinPacketLanes.
+  static unsigned walkGroups(const TopLevelBvh* top, const Ray* rays, Hit* hits,
+                             TraversalContext& ctx, bool anyHit, PacketLeafFn leaf,
+                             PacketSingleFn single, unsigned& lanes) {
+    unsigned alone = 0, found = 0;
+    while (laneCount(lanes) >= kMinPacketLanes) {
+      TopLevelPacketWalk walk(top, rays, hits, &ctx);
+      PacketBoxRays boxRays;
+      const unsigned group = walk.load(lanes, boxRays);
+      lanes &= ~group;
+      if (laneCount(group) < kMinPacketLanes) {
+        alone |= group;
+        continue;
+      }
+      found |= activePacketKernels().traverse(top->bvh_.nodes.data(), boxRays, group, anyHit, leaf,
+                                              single, &walk, ctx.nodeVisits);
+    }
+    lanes |= alone;
+    return found;
+  }
 };
 
 // Lanes whose direction signs differ cannot share box rows (shadow rays towards a light among
@@ -322,40 +347,17 @@ struct TopLevelPacketWalk {
 void TopLevelBvh::intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
                                   TraversalContext& ctx) const {
   if (lanes == 0 || bvh_.nodes.empty()) return;
-  unsigned alone = 0;
-  while (laneCount(lanes) >= kMinPacketLanes) {
-    TopLevelPacketWalk walk(this, rays, hits, &ctx);
-    PacketBoxRays boxRays;
-    const unsigned group = walk.load(lanes, boxRays);
-    lanes &= ~group;
-    if (laneCount(group) < kMinPacketLanes) {
-      alone |= group;
-      continue;
-    }
-    activePacketKernels().traverse(bvh_.nodes.data(), boxRays, group, false,
-                                   &TopLevelPacketWalk::intersectLeaf,
-                                   &TopLevelPacketWalk::intersectSingle, &walk, ctx.nodeVisits);
-  }
-  TopLevelAccel::intersectPacket(rays, lanes | alone, hits, ctx);
+  TopLevelPacketWalk::walkGroups(this, rays, hits, ctx, false, &TopLevelPacketWalk::intersectLeaf,
+                                 &TopLevelPacketWalk::intersectSingle, lanes);
+  TopLevelAccel::intersectPacket(rays, lanes, hits, ctx);
 }
 
 unsigned TopLevelBvh::occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const {
   if (lanes == 0 || bvh_.nodes.empty()) return 0;
-  unsigned alone = 0, blocked = 0;
-  while (laneCount(lanes) >= kMinPacketLanes) {
-    TopLevelPacketWalk walk(this, rays, nullptr, &ctx);
-    PacketBoxRays boxRays;
-    const unsigned group = walk.load(lanes, boxRays);
-    lanes &= ~group;
-    if (laneCount(group) < kMinPacketLanes) {
-      alone |= group;
-      continue;
-    }
-    blocked |= activePacketKernels().traverse(
-        bvh_.nodes.data(), boxRays, group, true, &TopLevelPacketWalk::occludedLeaf,
-        &TopLevelPacketWalk::occludedSingle, &walk, ctx.nodeVisits);
-  }
-  return blocked | TopLevelAccel::occludedPacket(rays, lanes | alone, ctx);
+  const unsigned blocked = TopLevelPacketWalk::walkGroups(
+      this, rays, nullptr, ctx, true, &TopLevelPacketWalk::occludedLeaf,
+      &TopLevelPacketWalk::occludedSingle, lanes);
+  return blocked | TopLevelAccel::occludedPacket(rays, lanes, ctx);
 }
 
 }  // namespace tg::detail
