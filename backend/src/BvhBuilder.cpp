@@ -385,8 +385,8 @@ class Builder {
     void store(std::uint32_t index, const Bvh4Node& node) const { nodes[index] = node; }
   };
 
-  /// Builds the subtree of inner child `child` (tree index `index`): on this thread with its
-  /// own numbering when it is small, else as part of the tree.
+  /// Builds the subtree over range `r` whose root is tree node `index`: on this thread with
+  /// its own numbering when it is small, else as part of the tree.
   SubtreeTally buildChild(std::uint32_t index, const Range& r, const Split& split, int depth) {
     if (r.count() > options_.parallelThreshold) {
       return buildNode(TreeNodes{*this}, index, r, split, depth);
