@@ -343,17 +343,14 @@ bool BvhAccel::occluded(const ObjectRay& ray, TraversalContext& ctx) const {
 
 namespace {
 
-/// Triangles whose candidates one filter call computes.
-constexpr std::uint32_t kFilterBatch = 8;
-
 /// What the packet leaf callbacks of both queries need; passed through the kernel as `user`.
-/// Lanes in `rays->filtered` go through the SIMD pre-filter (`rays->triangles`); the others are
-/// tested lane by lane.
+/// Lanes in `rays->filtered` go through the SIMD triangle test (`rays->triangles`); the others
+/// are tested lane by lane.
 struct PacketLeafContext {
   const BvhAccel* accel;
   TraversalContext* ctx;
   const BvhPacketRays* rays;
-  /// The kernels of the walk, looked up once rather than per filter call.
+  /// The kernels of the walk, looked up once rather than per leaf.
   const PacketKernels* kernels;
 };
 
@@ -369,60 +366,83 @@ struct OccludedLeafContext : PacketLeafContext {
   const ObjectRayPacket* packet;
 };
 
-/// Calls test(lane, k) for every (lane, triangle) pair of the leaf that may hit, in triangle
-/// order per lane, as the single-ray leaf test would meet them; test returns true to retire the
-/// lane from the rest of the leaf (any-hit).
-template <class Test>
-void forEachCandidate(const PacketLeafContext& c, std::uint32_t first, std::uint32_t count,
-                      unsigned lanes, const Test& test) {
-  const unsigned filtered = lanes & c.rays->filtered;
-  unsigned scalar = lanes & ~c.rays->filtered;
-  if (filtered != 0) {
-    c.ctx->triangleTests += static_cast<std::uint64_t>(laneCount(filtered)) * count;
-    unsigned live = filtered;
-    unsigned candidates[kFilterBatch];
-    for (std::uint32_t base = first; base < first + count && live != 0; base += kFilterBatch) {
-      const std::uint32_t n = std::min(kFilterBatch, first + count - base);
-      c.kernels->filterTriangles(c.accel->triangleFloats(base), n, c.rays->triangles, live,
-                                 candidates);
-      for (std::uint32_t i = 0; i < n; ++i)
-        for (unsigned m = candidates[i] & live; m != 0; m &= m - 1) {
+/// Tests the leaf's triangles against the lanes in `lanes`, in triangle order per lane as the
+/// single-ray leaf test meets them: the SIMD test gives found(lane, k, hit) its hits, and the
+/// lanes it cannot decide (an edge function exactly zero) and those outside the SIMD layout go
+/// through scalar(lane, k). Both return true to retire the lane from the rest of the leaf
+/// (any-hit). `tfar` holds the lanes' current tfar, which found() and scalar() keep up to date.
+template <class Found, class Scalar>
+void forEachTriangle(const PacketLeafContext& c, std::uint32_t first, std::uint32_t count,
+                     unsigned lanes, const float* tfar, bool anyHit, const Found& found,
+                     const Scalar& scalar) {
+  const unsigned simd = lanes & c.rays->filtered;
+  if (simd != 0) {
+    c.ctx->triangleTests += static_cast<std::uint64_t>(laneCount(simd)) * count;
+    unsigned live = simd;
+    PacketTriangleHits out;
+    for (std::uint32_t base = first; base < first + count && live != 0;) {
+      const std::uint32_t n = std::min(kTriangleBatch, first + count - base);
+      const std::uint32_t done = c.kernels->testTriangles(
+          c.accel->triangleFloats(base), n, c.rays->triangles, tfar, live, anyHit, out);
+      for (std::uint32_t i = 0; i < done; ++i) {
+        for (unsigned m = out.hit[i] & live; m != 0; m &= m - 1) {
           const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (test(l, base + i)) live &= ~(1u << l);
+          const TriangleHit th{out.t[i][l], out.u[i][l], out.v[i][l],
+                               Vec3d(out.normal[i][0], out.normal[i][1], out.normal[i][2])};
+          if (found(l, base + i, th)) live &= ~(1u << l);
         }
+        for (unsigned m = out.exact[i] & live; m != 0; m &= m - 1) {
+          const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+          if (scalar(l, base + i)) live &= ~(1u << l);
+        }
+      }
+      base += done;
     }
   }
-  for (; scalar != 0; scalar &= scalar - 1) {
-    const unsigned l = static_cast<unsigned>(__builtin_ctz(scalar));
+  for (unsigned rest = lanes & ~simd; rest != 0; rest &= rest - 1) {
+    const unsigned l = static_cast<unsigned>(__builtin_ctz(rest));
     c.ctx->triangleTests += count;
     for (std::uint32_t k = first; k < first + count; ++k)
-      if (test(l, k)) break;
+      if (scalar(l, k)) break;
   }
 }
 
 unsigned intersectPacketLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
                              PacketBoxRays& rays) {
   auto& c = *static_cast<ClosestLeafContext*>(user);
-  forEachCandidate(c, first, count, lanes, [&](unsigned l, std::uint32_t k) {
-    ObjectRay& ray = c.packet->rays[l];
-    if (c.accel->intersectTriangle(ray, c.hits[l], k)) {
-      rays.tfar[l] = ray.tfar;
-      c.changed |= 1u << l;
-    }
-    return false;
-  });
+  // A recorded hit lowers the lane's tfar for the walk too. Closest-hit lanes never retire.
+  const auto recorded = [&](unsigned l) {
+    rays.tfar[l] = c.packet->rays[l].tfar;
+    c.changed |= 1u << l;
+  };
+  forEachTriangle(
+      c, first, count, lanes, rays.tfar, false,
+      [&](unsigned l, std::uint32_t k, const TriangleHit& th) {
+        if (recordHit(c.packet->rays[l], th, c.accel->primId(k), c.hits[l])) recorded(l);
+        return false;
+      },
+      [&](unsigned l, std::uint32_t k) {
+        if (c.accel->intersectTriangle(c.packet->rays[l], c.hits[l], k)) recorded(l);
+        return false;
+      });
   return 0;
 }
 
 unsigned occludedPacketLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
-                            PacketBoxRays&) {
+                            PacketBoxRays& rays) {
   const auto& c = *static_cast<const OccludedLeafContext*>(user);
   unsigned blocked = 0;
-  forEachCandidate(c, first, count, lanes, [&](unsigned l, std::uint32_t k) {
-    if (!c.accel->occludedTriangle(c.packet->rays[l], k)) return false;
-    blocked |= 1u << l;
-    return true;
-  });
+  forEachTriangle(
+      c, first, count, lanes, rays.tfar, true,
+      [&](unsigned l, std::uint32_t, const TriangleHit&) {
+        blocked |= 1u << l;
+        return true;
+      },
+      [&](unsigned l, std::uint32_t k) {
+        if (!c.accel->occludedTriangle(c.packet->rays[l], k)) return false;
+        blocked |= 1u << l;
+        return true;
+      });
   return blocked;
 }
 
@@ -444,7 +464,19 @@ unsigned occludedSingleLane(void* user, std::uint32_t child, unsigned lane, Pack
 
 namespace {
 
-/// The pre-filter part of BvhAccel::loadPacket for its lanes `coherent` (first lane included):
+/// Lane `l` of the SIMD triangle test's rays.
+void setTriangleLane(PacketTriangleRays& tri, unsigned l, const WatertightRay& r) {
+  for (int a = 0; a < 3; ++a) {
+    tri.origin[a][l] = r.origin[a];
+    tri.originD[a][l] = r.originD[a];
+    tri.directionD[a][l] = r.directionD[a];
+  }
+  tri.sx[l] = r.sx;
+  tri.sy[l] = r.sy;
+  tri.tnear[l] = r.tnear;
+}
+
+/// The triangle-test part of BvhAccel::loadPacket for its lanes `coherent` (first lane included):
 /// the ones with the first lane's axis permutation share the pre-filter's layout.
 void loadPacketTriangles(const ObjectRayPacket& packet, unsigned coherent, BvhPacketRays& out) {
   const WatertightRay& lead = packet.rays[__builtin_ctz(coherent)].wt;
@@ -457,19 +489,13 @@ void loadPacketTriangles(const ObjectRayPacket& packet, unsigned coherent, BvhPa
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
     const WatertightRay& r = packet.rays[l].wt;
     if (r.kx == lead.kx && r.ky == lead.ky && r.kz == lead.kz) {
-      for (int a = 0; a < 3; ++a) tri.origin[a][l] = r.origin[a];
-      tri.sx[l] = r.sx;
-      tri.sy[l] = r.sy;
+      setTriangleLane(tri, l, r);
       filtered |= 1u << l;
     }
   }
-  // Lanes outside the filter still go through its full-width arithmetic: give them numbers.
-  for (unsigned l = 0; l < kPacketLanes; ++l) {
-    if (filtered & (1u << l)) continue;
-    for (int a = 0; a < 3; ++a) tri.origin[a][l] = lead.origin[a];
-    tri.sx[l] = lead.sx;
-    tri.sy[l] = lead.sy;
-  }
+  // Lanes outside the SIMD test still go through its full-width arithmetic: give them numbers.
+  for (unsigned l = 0; l < kPacketLanes; ++l)
+    if ((filtered & (1u << l)) == 0) setTriangleLane(tri, l, lead);
   out.coherent = coherent;
   out.filtered = filtered;
 }

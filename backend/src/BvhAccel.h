@@ -19,7 +19,7 @@ namespace tg::detail {
 struct BvhPacketRays {
   /// Box-test rays; the walk lowers tfar of the lanes that find closer hits.
   PacketBoxRays box;
-  /// Triangle pre-filter rays of the lanes in `filtered`.
+  /// Triangle-test rays of the lanes in `filtered`.
   PacketTriangleRays triangles;
   /// Lanes in `box`: the others need another walk.
   unsigned coherent = 0;
@@ -83,6 +83,8 @@ class BvhAccel final : public ObjectAccel {
   bool intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) const;
   /// Any-hit test of one ray against triangle `k` (leaf order).
   bool occludedTriangle(const ObjectRay& ray, std::uint32_t k) const;
+  /// Mesh triangle index of triangle `k` (leaf order).
+  std::uint32_t primId(std::uint32_t k) const { return primIds_[k]; }
   /// Triangles from `first` on (leaf order) as packed floats, 9 per triangle.
   const float* triangleFloats(std::uint32_t first) const;
 

@@ -22,12 +22,9 @@ inline Vec3f objectNormalForHit(const Vec3d& n) {
   return Vec3f(n * std::ldexp(1.0, -exponent));
 }
 
-/// Tests `tri` (mesh triangle `prim`) against `ray` for t in [tnear, ray.tfar]; when it is hit
-/// and precedes `hit` (hitPrecedes), records it in `hit` and lowers ray.tfar to its t.
-inline bool recordTriangleHit(ObjectRay& ray, const TriangleVertices& tri, std::uint32_t prim,
-                              Hit& hit) {
-  TriangleHit th;
-  if (!intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return false;
+/// Records the triangle hit `th` of mesh triangle `prim` in `hit` when it precedes it
+/// (hitPrecedes), and lowers ray.tfar to its t. `th` must lie in [tnear, ray.tfar].
+inline bool recordHit(ObjectRay& ray, const TriangleHit& th, std::uint32_t prim, Hit& hit) {
   if (!hitPrecedes(th.t, ray.instanceId, prim, hit)) return false;
   hit.t = th.t;
   hit.u = th.u;
@@ -38,6 +35,15 @@ inline bool recordTriangleHit(ObjectRay& ray, const TriangleVertices& tri, std::
   hit.geometricNormal = objectNormalForHit(th.normal);
   ray.tfar = th.t;
   return true;
+}
+
+/// Tests `tri` (mesh triangle `prim`) against `ray` for t in [tnear, ray.tfar]; when it is hit
+/// and precedes `hit` (hitPrecedes), records it in `hit` and lowers ray.tfar to its t.
+inline bool recordTriangleHit(ObjectRay& ray, const TriangleVertices& tri, std::uint32_t prim,
+                              Hit& hit) {
+  TriangleHit th;
+  if (!intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return false;
+  return recordHit(ray, th, prim, hit);
 }
 
 }  // namespace tg::detail

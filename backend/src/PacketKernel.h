@@ -67,27 +67,55 @@ struct alignas(64) PacketTriangleRays {
   float sx[kPacketLanes];
   /// WatertightRay::sy per lane.
   float sy[kPacketLanes];
+  /// WatertightRay::tnear per lane.
+  float tnear[kPacketLanes];
+  /// WatertightRay::originD per axis and lane: the double ray on which t is refined.
+  double originD[3][kPacketLanes];
+  /// WatertightRay::directionD per axis and lane.
+  double directionD[3][kPacketLanes];
   ///@{
   /// The shared axis permutation.
   int kx = 0, ky = 1, kz = 2;
   ///@}
 };
 
-/// The inside half of the watertight test (intersectWatertight) for every lane of `lanes`
-/// against `count` triangles (9 floats each: v0, v1, v2), computed with the scalar test's exact
-/// arithmetic. candidates[i] receives the lanes that may hit triangle i: those the edge
-/// functions place inside with a non-zero determinant, and those with an edge function exactly
-/// zero, which the scalar test decides in double. Only candidates need the scalar test.
-using TriangleFilterFn = void (*)(const float* vertices, std::uint32_t count,
-                                  const PacketTriangleRays& rays, unsigned lanes,
-                                  unsigned* candidates);
+/// Triangles one call of the packet triangle test takes at most.
+inline constexpr std::uint32_t kTriangleBatch = 8;
+
+/// What one call of the packet triangle test found, per triangle i of the batch.
+struct alignas(64) PacketTriangleHits {
+  /// Lanes that hit triangle i within [tnear, tfar] (tfar as lowered by the batch's earlier
+  /// hits), with t, u and v below.
+  unsigned hit[kTriangleBatch];
+  /// Lanes whose inside test met an edge function exactly zero in float: the scalar test
+  /// decides them (in double). Never also in hit[i].
+  unsigned exact[kTriangleBatch];
+  /// Distance of the hit per lane (valid in hit[i]).
+  float t[kTriangleBatch][kPacketLanes];
+  ///@{
+  /// Barycentrics per lane (valid in hit[i]).
+  float u[kTriangleBatch][kPacketLanes], v[kTriangleBatch][kPacketLanes];
+  ///@}
+  /// cross(v1 - v0, v2 - v0) in double (TriangleHit::normal), valid when hit[i] is not empty.
+  double normal[kTriangleBatch][3];
+};
+
+/// The watertight test (intersectWatertight) of the lanes in `lanes` against up to
+/// kTriangleBatch triangles (9 floats each: v0, v1, v2) in order, with the scalar test's exact
+/// arithmetic in float and in double. A lane that hits lowers its own tfar (copied from `tfar`)
+/// for the triangles after; with `anyHit` it leaves the batch instead. The call stops after the
+/// first triangle with lanes in exact[i], which need the scalar test before the rest of the
+/// batch, or when no lane is left; it returns how many triangles it wrote in `out`.
+using TriangleTestFn = std::uint32_t (*)(const float* vertices, std::uint32_t count,
+                                         const PacketTriangleRays& rays, const float* tfar,
+                                         unsigned lanes, bool anyHit, PacketTriangleHits& out);
 
 /// The kernels of one instruction set.
 struct PacketKernels {
   /// The BVH4 packet walk.
   PacketTraverseFn traverse = nullptr;
-  /// The triangle pre-filter.
-  TriangleFilterFn filterTriangles = nullptr;
+  /// The triangle test.
+  TriangleTestFn testTriangles = nullptr;
 };
 
 /// The portable kernels (SSE on x86-64).

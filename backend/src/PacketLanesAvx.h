@@ -1,11 +1,11 @@
-// Eight lanes in an AVX register, for the triangle pre-filter of the AVX2 and AVX-512 kernels
-// (see PacketTriangleFilter.h). Include only from translation units compiled with AVX2.
+// Eight lanes in an AVX register, for the triangle test of the AVX2 and AVX-512 kernels (see
+// PacketTriangleTest.h). Include only from translation units compiled with AVX2.
 // Internal header: not installed.
 #pragma once
 
 #include <immintrin.h>
 
-#include "PacketTriangleFilter.h"
+#include "PacketTriangleTest.h"
 
 namespace tg::detail {
 namespace {
@@ -36,19 +36,59 @@ struct Avx8LaneOps {
   }
 };
 
+/// Eight doubles in two AVX registers (lanes 0-3, 4-7).
+struct Doubles8 {
+  __m256d lo, hi;
+  static Doubles8 load(const double* p) { return {_mm256_load_pd(p), _mm256_load_pd(p + 4)}; }
+  static Doubles8 broadcast(double x) { return {_mm256_set1_pd(x), _mm256_set1_pd(x)}; }
+  friend Doubles8 operator+(Doubles8 a, Doubles8 b) {
+    return {_mm256_add_pd(a.lo, b.lo), _mm256_add_pd(a.hi, b.hi)};
+  }
+  friend Doubles8 operator-(Doubles8 a, Doubles8 b) {
+    return {_mm256_sub_pd(a.lo, b.lo), _mm256_sub_pd(a.hi, b.hi)};
+  }
+  friend Doubles8 operator*(Doubles8 a, Doubles8 b) {
+    return {_mm256_mul_pd(a.lo, b.lo), _mm256_mul_pd(a.hi, b.hi)};
+  }
+  friend Doubles8 operator/(Doubles8 a, Doubles8 b) {
+    return {_mm256_div_pd(a.lo, b.lo), _mm256_div_pd(a.hi, b.hi)};
+  }
+  /// Lanes where x != 0 (NaN included).
+  static unsigned nonZero(Doubles8 x) {
+    const __m256d zero = _mm256_setzero_pd();
+    const auto lo =
+        static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(x.lo, zero, _CMP_NEQ_UQ)));
+    const auto hi =
+        static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(x.hi, zero, _CMP_NEQ_UQ)));
+    return lo | (hi << 4);
+  }
+};
+
 struct Lanes8 {
   static constexpr unsigned kWidth = 8;
+  using Doubles = Doubles8;
   __m256 v;
   static Lanes8 load(const float* p) { return {_mm256_load_ps(p)}; }
   static Lanes8 broadcast(float x) { return {_mm256_set1_ps(x)}; }
+  void store(float* p) const { _mm256_store_ps(p, v); }
   friend Lanes8 operator+(Lanes8 a, Lanes8 b) { return {_mm256_add_ps(a.v, b.v)}; }
   friend Lanes8 operator-(Lanes8 a, Lanes8 b) { return {_mm256_sub_ps(a.v, b.v)}; }
   friend Lanes8 operator*(Lanes8 a, Lanes8 b) { return {_mm256_mul_ps(a.v, b.v)}; }
-  static unsigned candidates(Lanes8 u, Lanes8 v, Lanes8 w) {
+  friend Lanes8 operator/(Lanes8 a, Lanes8 b) { return {_mm256_div_ps(a.v, b.v)}; }
+  /// Rounds each double to the nearest float, as static_cast<float> does.
+  static Lanes8 fromDoubles(Doubles8 x) {
+    return {_mm256_insertf128_ps(_mm256_castps128_ps256(_mm256_cvtpd_ps(x.lo)),
+                                 _mm256_cvtpd_ps(x.hi), 1)};
+  }
+  static unsigned mask(__m256 m) { return static_cast<unsigned>(_mm256_movemask_ps(m)); }
+  static unsigned anyZero(Lanes8 u, Lanes8 v, Lanes8 w) {
     const __m256 zero = _mm256_setzero_ps();
-    const __m256 anyZero = _mm256_or_ps(
+    return mask(_mm256_or_ps(
         _mm256_or_ps(_mm256_cmp_ps(u.v, zero, _CMP_EQ_OQ), _mm256_cmp_ps(v.v, zero, _CMP_EQ_OQ)),
-        _mm256_cmp_ps(w.v, zero, _CMP_EQ_OQ));
+        _mm256_cmp_ps(w.v, zero, _CMP_EQ_OQ)));
+  }
+  static unsigned inside(Lanes8 u, Lanes8 v, Lanes8 w) {
+    const __m256 zero = _mm256_setzero_ps();
     const __m256 anyNegative = _mm256_or_ps(
         _mm256_or_ps(_mm256_cmp_ps(u.v, zero, _CMP_LT_OQ), _mm256_cmp_ps(v.v, zero, _CMP_LT_OQ)),
         _mm256_cmp_ps(w.v, zero, _CMP_LT_OQ));
@@ -56,10 +96,15 @@ struct Lanes8 {
         _mm256_or_ps(_mm256_cmp_ps(u.v, zero, _CMP_GT_OQ), _mm256_cmp_ps(v.v, zero, _CMP_GT_OQ)),
         _mm256_cmp_ps(w.v, zero, _CMP_GT_OQ));
     const __m256 det = _mm256_add_ps(_mm256_add_ps(u.v, v.v), w.v);
-    // NEQ_UQ: a NaN determinant stays a candidate, as the scalar test's det == 0 lets it pass.
-    const __m256 inside = _mm256_andnot_ps(_mm256_and_ps(anyNegative, anyPositive),
-                                           _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
-    return static_cast<unsigned>(_mm256_movemask_ps(_mm256_or_ps(anyZero, inside)));
+    // NEQ_UQ: a NaN determinant goes on, as the scalar test's det == 0 lets it pass.
+    return mask(_mm256_andnot_ps(_mm256_and_ps(anyNegative, anyPositive),
+                                 _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ)));
+  }
+  static unsigned inRange(Lanes8 t, Lanes8 tnear, Lanes8 tfar) {
+    const __m256 inf = _mm256_set1_ps(__builtin_inff());
+    return mask(_mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(t.v, tnear.v, _CMP_GE_OQ),
+                                            _mm256_cmp_ps(t.v, tfar.v, _CMP_LE_OQ)),
+                              _mm256_cmp_ps(t.v, inf, _CMP_LT_OQ)));
   }
 };
 

@@ -11,7 +11,7 @@
 #pragma once
 
 #include "PacketKernel.h"
-#include "PacketTriangleFilter.h"
+#include "PacketTriangleTest.h"
 
 namespace tg::detail {
 namespace {
@@ -133,11 +133,11 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
   }
 }
 
-/// The kernels of one instruction set: the walk with its node test and the triangle pre-filter
-/// with its lane type.
+/// The kernels of one instruction set: the walk with its node test and the triangle test with
+/// its lane type.
 template <class NodeTest, class Lanes>
 PacketKernels packetKernelsWith() {
-  return {&traversePacket<NodeTest>, &filterTrianglesWith<Lanes>};
+  return {&traversePacket<NodeTest>, &testTrianglesWith<Lanes>};
 }
 
 }  // namespace

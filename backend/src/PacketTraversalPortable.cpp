@@ -1,7 +1,7 @@
 // The portable packet kernel: SSE (the x86-64 baseline) tests one child box against four lanes
 // per instruction; other targets use plain C++ with the same arithmetic.
 #include "PacketTraversalImpl.h"
-#include "PacketTriangleFilter.h"
+#include "PacketTriangleTest.h"
 
 #if TG_BVH4_SSE
 #include <emmintrin.h>
@@ -64,45 +64,107 @@ struct PortableNodeTest : ScalarLaneOps {
 };
 
 #if TG_BVH4_SSE
+/// Four doubles in two SSE registers (lanes 0-1, 2-3).
+struct Doubles4 {
+  __m128d lo, hi;
+  static Doubles4 load(const double* p) { return {_mm_load_pd(p), _mm_load_pd(p + 2)}; }
+  static Doubles4 broadcast(double x) { return {_mm_set1_pd(x), _mm_set1_pd(x)}; }
+  friend Doubles4 operator+(Doubles4 a, Doubles4 b) {
+    return {_mm_add_pd(a.lo, b.lo), _mm_add_pd(a.hi, b.hi)};
+  }
+  friend Doubles4 operator-(Doubles4 a, Doubles4 b) {
+    return {_mm_sub_pd(a.lo, b.lo), _mm_sub_pd(a.hi, b.hi)};
+  }
+  friend Doubles4 operator*(Doubles4 a, Doubles4 b) {
+    return {_mm_mul_pd(a.lo, b.lo), _mm_mul_pd(a.hi, b.hi)};
+  }
+  friend Doubles4 operator/(Doubles4 a, Doubles4 b) {
+    return {_mm_div_pd(a.lo, b.lo), _mm_div_pd(a.hi, b.hi)};
+  }
+  /// Lanes where x != 0 (NaN included).
+  static unsigned nonZero(Doubles4 x) {
+    const __m128d zero = _mm_setzero_pd();
+    const auto lo = static_cast<unsigned>(_mm_movemask_pd(_mm_cmpneq_pd(x.lo, zero)));
+    const auto hi = static_cast<unsigned>(_mm_movemask_pd(_mm_cmpneq_pd(x.hi, zero)));
+    return lo | (hi << 2);
+  }
+};
+
 /// Four lanes in an SSE register.
 struct Lanes4 {
   static constexpr unsigned kWidth = 4;
+  using Doubles = Doubles4;
   __m128 v;
   static Lanes4 load(const float* p) { return {_mm_load_ps(p)}; }
   static Lanes4 broadcast(float x) { return {_mm_set1_ps(x)}; }
+  void store(float* p) const { _mm_store_ps(p, v); }
   friend Lanes4 operator+(Lanes4 a, Lanes4 b) { return {_mm_add_ps(a.v, b.v)}; }
   friend Lanes4 operator-(Lanes4 a, Lanes4 b) { return {_mm_sub_ps(a.v, b.v)}; }
   friend Lanes4 operator*(Lanes4 a, Lanes4 b) { return {_mm_mul_ps(a.v, b.v)}; }
-  static unsigned candidates(Lanes4 u, Lanes4 v, Lanes4 w) {
+  friend Lanes4 operator/(Lanes4 a, Lanes4 b) { return {_mm_div_ps(a.v, b.v)}; }
+  /// Rounds each double to the nearest float, as static_cast<float> does.
+  static Lanes4 fromDoubles(Doubles4 x) {
+    return {_mm_movelh_ps(_mm_cvtpd_ps(x.lo), _mm_cvtpd_ps(x.hi))};
+  }
+  static unsigned mask(__m128 m) { return static_cast<unsigned>(_mm_movemask_ps(m)); }
+  static unsigned anyZero(Lanes4 u, Lanes4 v, Lanes4 w) {
     const __m128 zero = _mm_setzero_ps();
-    const __m128 anyZero = _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u.v, zero), _mm_cmpeq_ps(v.v, zero)),
-                                     _mm_cmpeq_ps(w.v, zero));
+    return mask(_mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u.v, zero), _mm_cmpeq_ps(v.v, zero)),
+                          _mm_cmpeq_ps(w.v, zero)));
+  }
+  static unsigned inside(Lanes4 u, Lanes4 v, Lanes4 w) {
+    const __m128 zero = _mm_setzero_ps();
     const __m128 anyNegative = _mm_or_ps(
         _mm_or_ps(_mm_cmplt_ps(u.v, zero), _mm_cmplt_ps(v.v, zero)), _mm_cmplt_ps(w.v, zero));
     const __m128 anyPositive = _mm_or_ps(
         _mm_or_ps(_mm_cmpgt_ps(u.v, zero), _mm_cmpgt_ps(v.v, zero)), _mm_cmpgt_ps(w.v, zero));
     const __m128 det = _mm_add_ps(_mm_add_ps(u.v, v.v), w.v);
-    const __m128 inside =
-        _mm_andnot_ps(_mm_and_ps(anyNegative, anyPositive), _mm_cmpneq_ps(det, zero));
-    return static_cast<unsigned>(_mm_movemask_ps(_mm_or_ps(anyZero, inside)));
+    // cmpneq is unordered: a NaN determinant goes on, as in the scalar test.
+    return mask(_mm_andnot_ps(_mm_and_ps(anyNegative, anyPositive), _mm_cmpneq_ps(det, zero)));
+  }
+  static unsigned inRange(Lanes4 t, Lanes4 tnear, Lanes4 tfar) {
+    const __m128 inf = _mm_set1_ps(__builtin_inff());
+    return mask(_mm_and_ps(_mm_and_ps(_mm_cmpge_ps(t.v, tnear.v), _mm_cmple_ps(t.v, tfar.v)),
+                           _mm_cmplt_ps(t.v, inf)));
   }
 };
 using PortableLanes = Lanes4;
 #else
+/// One double.
+struct Doubles1 {
+  double v;
+  static Doubles1 load(const double* p) { return {*p}; }
+  static Doubles1 broadcast(double x) { return {x}; }
+  friend Doubles1 operator+(Doubles1 a, Doubles1 b) { return {a.v + b.v}; }
+  friend Doubles1 operator-(Doubles1 a, Doubles1 b) { return {a.v - b.v}; }
+  friend Doubles1 operator*(Doubles1 a, Doubles1 b) { return {a.v * b.v}; }
+  friend Doubles1 operator/(Doubles1 a, Doubles1 b) { return {a.v / b.v}; }
+  static unsigned nonZero(Doubles1 x) { return x.v != 0.0 ? 1 : 0; }
+};
+
 /// One lane in a float.
 struct Lanes1 {
   static constexpr unsigned kWidth = 1;
+  using Doubles = Doubles1;
   float v;
   static Lanes1 load(const float* p) { return {*p}; }
   static Lanes1 broadcast(float x) { return {x}; }
+  void store(float* p) const { *p = v; }
   friend Lanes1 operator+(Lanes1 a, Lanes1 b) { return {a.v + b.v}; }
   friend Lanes1 operator-(Lanes1 a, Lanes1 b) { return {a.v - b.v}; }
   friend Lanes1 operator*(Lanes1 a, Lanes1 b) { return {a.v * b.v}; }
-  static unsigned candidates(Lanes1 u, Lanes1 v, Lanes1 w) {
-    if (u.v == 0.0f || v.v == 0.0f || w.v == 0.0f) return 1;
+  friend Lanes1 operator/(Lanes1 a, Lanes1 b) { return {a.v / b.v}; }
+  static Lanes1 fromDoubles(Doubles1 x) { return {static_cast<float>(x.v)}; }
+  static unsigned anyZero(Lanes1 u, Lanes1 v, Lanes1 w) {
+    return u.v == 0.0f || v.v == 0.0f || w.v == 0.0f ? 1 : 0;
+  }
+  static unsigned inside(Lanes1 u, Lanes1 v, Lanes1 w) {
     const bool mixed =
         (u.v < 0.0f || v.v < 0.0f || w.v < 0.0f) && (u.v > 0.0f || v.v > 0.0f || w.v > 0.0f);
     return !mixed && u.v + v.v + w.v != 0.0f ? 1 : 0;
+  }
+  static unsigned inRange(Lanes1 t, Lanes1 tnear, Lanes1 tfar) {
+    return t.v >= tnear.v && t.v <= tfar.v && t.v < __builtin_inff() ? 1 : 0;
   }
 };
 using PortableLanes = Lanes1;
