@@ -29,7 +29,7 @@ void TopLevelAccel::intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
                                     TraversalContext& ctx) const {
   for (unsigned m = lanes; m != 0; m &= m - 1) {
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-    intersect(rays[l], hits[l], ctx);
+    if (isTraceable(rays[l])) intersect(rays[l], hits[l], ctx);
   }
 }
 
@@ -38,7 +38,7 @@ unsigned TopLevelAccel::occludedPacket(const Ray* rays, unsigned lanes,
   unsigned blocked = 0;
   for (unsigned m = lanes; m != 0; m &= m - 1) {
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-    if (occluded(rays[l], ctx)) blocked |= 1u << l;
+    if (isTraceable(rays[l]) && occluded(rays[l], ctx)) blocked |= 1u << l;
   }
   return blocked;
 }

@@ -56,43 +56,6 @@ Box3f conservativeFloatBox(const Box3d& b) {
 /// Instance counts from which commit() makes the instance records in parallel.
 constexpr std::size_t kParallelRecords = 4096;
 
-bool isTraceable(const Ray& ray) {
-  return isFinite(ray.origin) && isFinite(ray.direction) &&
-         !(ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) &&
-         !std::isnan(ray.tnear) && !std::isnan(ray.tfar) && ray.tnear <= ray.tfar;
-}
-
-/// The lanes l of a full packet for which isTraceable(rays[l]) holds, from its rows: the
-/// per-lane checks were most of the packet loop's own work.
-unsigned traceableLanes(const Ray* rays) {
-  detail::PacketRayRows rows;
-  detail::loadRayRows(rays, rows);
-#if defined(__SSE2__)
-  const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
-  const __m128 inf = _mm_set1_ps(kInfinity), zero = _mm_setzero_ps();
-  unsigned lanes = 0;
-  for (unsigned h = 0; h < detail::kPacketLanes; h += 4) {
-    const auto row = [&](int r) { return _mm_load_ps(rows.row[r] + h); };
-    // |x| < inf: false for infinities and NaN, as !isfinite.
-    __m128 ok = _mm_cmplt_ps(_mm_and_ps(row(0), absMask), inf);
-    for (int r : {1, 2, 4, 5, 6})
-      ok = _mm_and_ps(ok, _mm_cmplt_ps(_mm_and_ps(row(r), absMask), inf));
-    const __m128 nonZero =
-        _mm_or_ps(_mm_or_ps(_mm_cmpneq_ps(row(4), zero), _mm_cmpneq_ps(row(5), zero)),
-                  _mm_cmpneq_ps(row(6), zero));
-    // tnear <= tfar is false when either is NaN.
-    ok = _mm_and_ps(_mm_and_ps(ok, nonZero), _mm_cmple_ps(row(3), row(7)));
-    lanes |= static_cast<unsigned>(_mm_movemask_ps(ok)) << h;
-  }
-  return lanes;
-#else
-  unsigned lanes = 0;
-  for (unsigned l = 0; l < detail::kPacketLanes; ++l)
-    lanes |= (isTraceable(rays[l]) ? 1u : 0u) << l;
-  return lanes;
-#endif
-}
-
 }  // namespace
 
 struct Scene::Impl {
@@ -425,11 +388,11 @@ void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalC
       Ray tail[kRayPacketSize];
       Hit tailHits[kRayPacketSize];
       std::copy(packet, packet + n, tail);
-      const unsigned lanes = traceableLanes(tail) & ((1u << n) - 1u);
-      impl_->topLevel->intersectPacket(tail, lanes, tailHits, ctx);
+      impl_->topLevel->intersectPacket(tail, (1u << n) - 1u, tailHits, ctx);
       std::copy(tailHits, tailHits + n, packetHits);
     } else {
-      impl_->topLevel->intersectPacket(packet, traceableLanes(packet), packetHits, ctx);
+      // The top level leaves out the rays that are not traceable, from the rows it loads.
+      impl_->topLevel->intersectPacket(packet, detail::kAllLanes, packetHits, ctx);
     }
     for (std::size_t l = 0; l < n; ++l)
       if (packetHits[l].valid()) fillGeometricNormal(packetHits[l]);
@@ -445,8 +408,7 @@ void Scene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded
     const std::size_t n = std::min<std::size_t>(kRayPacketSize, rays.size() - base);
     Ray packet[kRayPacketSize];
     std::copy(rays.data() + base, rays.data() + base + n, packet);
-    const unsigned lanes = traceableLanes(packet) & ((1u << n) - 1u);
-    const unsigned blocked = impl_->topLevel->occludedPacket(packet, lanes, ctx);
+    const unsigned blocked = impl_->topLevel->occludedPacket(packet, (1u << n) - 1u, ctx);
     for (std::size_t l = 0; l < n; ++l) occluded[base + l] = (blocked >> l) & 1u;
   }
 }

@@ -290,14 +290,17 @@ struct TopLevelPacketWalk {
                : 0u;
   }
 
-  /// Loads the world rays of `lanes` whose direction signs match the first lane's.
-  unsigned load(unsigned lanes, PacketBoxRays& boxRays) {
+  /// Loads the world rays of `lanes` whose direction signs match the first traceable lane's;
+  /// leaves the lanes whose rays are not traceable out of `lanes`.
+  unsigned load(unsigned& lanes, PacketBoxRays& boxRays) {
     // All eight rays straight into their rows, directions where the reciprocals go
     // (setPacketReciprocals divides them). Lanes outside `coherent` get the first lane's values.
     float* const rows[8] = {boxRays.origin[0],     boxRays.origin[1],     boxRays.origin[2],
                             boxRays.tnear,         boxRays.reciprocal[0], boxRays.reciprocal[1],
                             boxRays.reciprocal[2], boxRays.tfar};
     loadRayRows(rays, rows);
+    lanes &= traceableLanes(rows);
+    if (lanes == 0) return 0;
     const unsigned firstLane = static_cast<unsigned>(__builtin_ctz(lanes));
     unsigned coherent = lanes, signs = 0;
     for (int a = 0; a < 3; ++a) {
@@ -314,11 +317,11 @@ struct TopLevelPacketWalk {
     return coherent;
   }
 
-  /// Walks `lanes` of `rays` group by group: each group of equal direction signs walks as a
-  /// packet of its own with the query's callbacks (`anyHit`, `leaf`, `single`). Returns what
-  /// the walks return (any hit: the lanes found occluded) and leaves in `lanes` those still to
-  /// be traced alone: the groups too small for a packet, and what remains below
-  /// kMinPacketLanes.
+  /// Walks the traceable lanes of `lanes` of `rays` group by group: each group of equal
+  /// direction signs walks as a packet of its own with the query's callbacks (`anyHit`, `leaf`,
+  /// `single`). Returns what the walks return (any hit: the lanes found occluded) and leaves in
+  /// `lanes` those still to be traced alone: the groups too small for a packet, and what remains
+  /// below kMinPacketLanes (not yet checked for traceability).
   static unsigned walkGroups(const TopLevelBvh* top, const Ray* rays, Hit* hits,
                              TraversalContext& ctx, bool anyHit, PacketLeafFn leaf,
                              PacketSingleFn single, unsigned& lanes) {
@@ -328,6 +331,7 @@ struct TopLevelPacketWalk {
       PacketBoxRays boxRays;
       const unsigned group = walk.load(lanes, boxRays);
       lanes &= ~group;
+      if (group == 0) break;
       if (laneCount(group) < kMinPacketLanes) {
         alone |= group;
         continue;

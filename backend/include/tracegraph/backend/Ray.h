@@ -2,6 +2,7 @@
 /// Rays and hit records shared by every accelerator and the renderer.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -29,6 +30,14 @@ struct Ray {
   /// Largest t that counts.
   float tfar = kInfinity;
 };
+
+/// True for the rays a scene traces: finite origin and direction, a direction that is not
+/// zero, and tnear <= tfar (neither NaN). Other rays never hit and are never occluded.
+inline bool isTraceable(const Ray& ray) {
+  return isFinite(ray.origin) && isFinite(ray.direction) &&
+         !(ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) &&
+         !std::isnan(ray.tnear) && !std::isnan(ray.tfar) && ray.tnear <= ray.tfar;
+}
 
 /// The closest hit along a ray.
 ///

@@ -69,11 +69,13 @@ class TopLevelAccel {
   virtual bool intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const = 0;
   /// Any hit of a world ray in [tnear, tfar].
   virtual bool occluded(const Ray& ray, TraversalContext& ctx) const = 0;
-  /// Closest hits of the lanes in `lanes` of `rays` (kRayPacketSize entries): for each lane i,
-  /// exactly what intersect(rays[i], hits[i], ctx) gives. The default traces lane by lane.
+  /// Closest hits of the lanes in `lanes` of `rays` (kRayPacketSize entries): for each lane i
+  /// whose ray is traceable (isTraceable), exactly what intersect(rays[i], hits[i], ctx) gives;
+  /// the hits of the other lanes are left as they are. The default traces lane by lane.
   virtual void intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
                                TraversalContext& ctx) const;
-  /// Any-hit counterpart of intersectPacket: returns the lanes that are occluded.
+  /// Any-hit counterpart of intersectPacket: returns the lanes that are occluded (never one
+  /// whose ray is not traceable).
   virtual unsigned occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const;
   /// Statistics of the last build.
   virtual const TopLevelStats& stats() const = 0;
