@@ -96,6 +96,17 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
         order[j] = s;
       }
       if (n > 0) {
+        // Ask for the inner children's nodes now: the walk reaches them after a leaf or two, and
+        // the loads of a node's boxes (and the arithmetic waiting on them) were the hottest
+        // instructions of the node test in perf profiles.
+        for (int j = 0; j < n; ++j) {
+          const int s = order[j];
+          if (node.count[s] == 0) {
+            const char* line = reinterpret_cast<const char*>(nodes + node.child[s]);
+            __builtin_prefetch(line);
+            __builtin_prefetch(line + 64);
+          }
+        }
         for (int j = n - 1; j > 0; --j) {
           const int s = order[j];
           Entry& e = stack[stackSize++];
