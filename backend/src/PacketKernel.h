@@ -110,8 +110,19 @@ using TriangleTestFn = std::uint32_t (*)(const float* vertices, std::uint32_t co
                                          const PacketTriangleRays& rays, const float* tfar,
                                          unsigned lanes, bool anyHit, PacketTriangleHits& out);
 
+/// Loads rays[0..kPacketLanes) (all of them are read) for a packet walk: leaves in `lanes` only
+/// its lanes whose rays are traceable (isTraceable), writes into `out` the box rays of those
+/// whose direction signs match the first one's (tfar lowered to hits[l].t unless `hits` is
+/// null; every other lane a copy of the first, so that full-width arithmetic sees ordinary
+/// numbers) and returns them: exactly what the single-ray box test computes per lane (Bvh4Ray).
+/// Returns 0 when no lane is traceable.
+using BoxRayLoadFn = unsigned (*)(const Ray* rays, const Hit* hits, unsigned& lanes,
+                                  PacketBoxRays& out);
+
 /// The kernels of one instruction set.
 struct PacketKernels {
+  /// The packet load of the top-level walk.
+  BoxRayLoadFn loadBoxRays = nullptr;
   /// The BVH4 packet walk.
   PacketTraverseFn traverse = nullptr;
   /// The triangle test.

@@ -108,5 +108,80 @@ struct Lanes8 {
   }
 };
 
+/// The BoxRayLoadFn of the AVX kernels: loadPacketBoxRays (PacketRays.h) eight lanes per
+/// instruction, with the same comparisons, minimum and division, so the same bits.
+unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, PacketBoxRays& out) {
+  static_assert(sizeof(Ray) == 8 * sizeof(float) && kPacketLanes == 8,
+                "eight rays of eight floats: an 8 x 8 transpose");
+  const auto* f = reinterpret_cast<const float*>(rays);
+  __m256 r[8];
+  for (int i = 0; i < 8; ++i) r[i] = _mm256_loadu_ps(f + 8 * i);
+  // Transpose: row[j] holds float j (Ray's member order) of every ray.
+  __m256 t[8], u[8], row[8];
+  for (int i = 0; i < 8; i += 2) {
+    t[i] = _mm256_unpacklo_ps(r[i], r[i + 1]);
+    t[i + 1] = _mm256_unpackhi_ps(r[i], r[i + 1]);
+  }
+  for (int i = 0; i < 8; i += 4) {
+    u[i] = _mm256_shuffle_ps(t[i], t[i + 2], _MM_SHUFFLE(1, 0, 1, 0));
+    u[i + 1] = _mm256_shuffle_ps(t[i], t[i + 2], _MM_SHUFFLE(3, 2, 3, 2));
+    u[i + 2] = _mm256_shuffle_ps(t[i + 1], t[i + 3], _MM_SHUFFLE(1, 0, 1, 0));
+    u[i + 3] = _mm256_shuffle_ps(t[i + 1], t[i + 3], _MM_SHUFFLE(3, 2, 3, 2));
+  }
+  for (int j = 0; j < 4; ++j) {
+    row[j] = _mm256_permute2f128_ps(u[j], u[j + 4], 0x20);
+    row[j + 4] = _mm256_permute2f128_ps(u[j], u[j + 4], 0x31);
+  }
+  // Traceable: finite origin and direction (|x| < inf is false for inf and NaN), a direction
+  // that is not zero (unordered: NaN counts as not zero, and is caught above), tnear <= tfar.
+  const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
+  const __m256 inf = _mm256_set1_ps(__builtin_inff()), zero = _mm256_setzero_ps();
+  __m256 ok = _mm256_cmp_ps(_mm256_and_ps(row[0], absMask), inf, _CMP_LT_OQ);
+  for (int j : {1, 2, 4, 5, 6})
+    ok = _mm256_and_ps(ok, _mm256_cmp_ps(_mm256_and_ps(row[j], absMask), inf, _CMP_LT_OQ));
+  const __m256 nonZero = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(row[4], zero, _CMP_NEQ_UQ),
+                                                   _mm256_cmp_ps(row[5], zero, _CMP_NEQ_UQ)),
+                                      _mm256_cmp_ps(row[6], zero, _CMP_NEQ_UQ));
+  ok = _mm256_and_ps(_mm256_and_ps(ok, nonZero), _mm256_cmp_ps(row[3], row[7], _CMP_LE_OQ));
+  lanes &= static_cast<unsigned>(_mm256_movemask_ps(ok));
+  if (lanes == 0) return 0;
+  const unsigned firstLane = static_cast<unsigned>(__builtin_ctz(lanes));
+  unsigned coherent = lanes, signs = 0;
+  for (int a = 0; a < 3; ++a) {
+    // d < 0: not -0, not NaN, as directionSigns tests a component.
+    const auto negative =
+        static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(row[4 + a], zero, _CMP_LT_OQ)));
+    const bool leadNegative = (negative >> firstLane) & 1u;
+    signs |= (leadNegative ? 1u : 0u) << a;
+    coherent &= leadNegative ? negative : ~negative;
+  }
+  if (hits) {
+    // MINPS(t, tfar) is t < tfar ? t : tfar, which is std::min(tfar, t).
+    const __m256 hitT = _mm256_setr_ps(hits[0].t, hits[1].t, hits[2].t, hits[3].t, hits[4].t,
+                                       hits[5].t, hits[6].t, hits[7].t);
+    row[7] = _mm256_min_ps(hitT, row[7]);
+  }
+  for (int a = 0; a < 3; ++a) {
+    const bool negative = (signs >> a) & 1u;
+    out.nearRow[a] = 2 * a + (negative ? 1 : 0);
+    out.farRow[a] = 2 * a + (negative ? 0 : 1);
+  }
+  if (coherent != kAllLanes) {
+    const __m256 keep = Avx8LaneOps::laneMask(coherent);
+    const __m256i lead = _mm256_set1_epi32(static_cast<int>(firstLane));
+    for (__m256& v : row) v = _mm256_blendv_ps(_mm256_permutevar8x32_ps(v, lead), v, keep);
+  }
+  for (int a = 0; a < 3; ++a) {
+    const __m256 d = row[4 + a];
+    const __m256 reciprocal = _mm256_div_ps(_mm256_set1_ps(1.0f), d);
+    _mm256_store_ps(out.origin[a], row[a]);
+    _mm256_store_ps(out.reciprocal[a],
+                    _mm256_blendv_ps(reciprocal, inf, _mm256_cmp_ps(d, zero, _CMP_EQ_OQ)));
+  }
+  _mm256_store_ps(out.tnear, row[3]);
+  _mm256_store_ps(out.tfar, row[7]);
+  return coherent;
+}
+
 }  // namespace
 }  // namespace tg::detail

@@ -212,6 +212,31 @@ inline unsigned negativeLanes(const float* row) {
 #endif
 }
 
+/// The portable BoxRayLoadFn (SSE where available).
+inline unsigned loadPacketBoxRays(const Ray* rays, const Hit* hits, unsigned& lanes,
+                                  PacketBoxRays& out) {
+  // All eight rays straight into their rows, directions where the reciprocals go
+  // (setPacketReciprocals divides them). Lanes outside `coherent` get the first lane's values.
+  float* const rows[8] = {out.origin[0],     out.origin[1],     out.origin[2],     out.tnear,
+                          out.reciprocal[0], out.reciprocal[1], out.reciprocal[2], out.tfar};
+  loadRayRows(rays, rows);
+  lanes &= traceableLanes(rows);
+  if (lanes == 0) return 0;
+  const unsigned firstLane = static_cast<unsigned>(__builtin_ctz(lanes));
+  unsigned coherent = lanes, signs = 0;
+  for (int a = 0; a < 3; ++a) {
+    const unsigned negative = negativeLanes(out.reciprocal[a]);
+    const bool leadNegative = (negative >> firstLane) & 1u;
+    signs |= (leadNegative ? 1u : 0u) << a;
+    coherent &= leadNegative ? negative : ~negative;
+  }
+  if (hits) lowerToHits(out.tfar, hits);
+  setPacketRows(out, signs);
+  fillUnusedLanes(out, coherent, firstLane);
+  setPacketReciprocals(out);
+  return coherent;
+}
+
 /// Packets with fewer coherent lanes than this are traced as single rays: the shared walk
 /// costs more than it saves for one or two rays.
 inline constexpr int kMinPacketLanes = 3;

@@ -49,7 +49,7 @@ struct Avx2NodeTest : Avx8LaneOps {
 }  // namespace
 
 PacketKernels packetKernelsAvx2() {
-  return packetKernelsWith<Avx2NodeTest, Lanes8>();
+  return packetKernelsWith<Avx2NodeTest, Lanes8>(&loadBoxRaysAvx);
 }
 
 }  // namespace tg::detail

@@ -77,7 +77,7 @@ struct Avx512NodeTest : Avx8LaneOps {
 }  // namespace
 
 PacketKernels packetKernelsAvx512() {
-  return packetKernelsWith<Avx512NodeTest, Lanes8>();
+  return packetKernelsWith<Avx512NodeTest, Lanes8>(&loadBoxRaysAvx);
 }
 
 }  // namespace tg::detail

@@ -144,11 +144,11 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
   }
 }
 
-/// The kernels of one instruction set: the walk with its node test and the triangle test with
-/// its lane type.
+/// The kernels of one instruction set: the packet load, the walk with its node test and the
+/// triangle test with its lane type.
 template <class NodeTest, class Lanes>
-PacketKernels packetKernelsWith() {
-  return {&traversePacket<NodeTest>, &testTrianglesWith<Lanes>};
+PacketKernels packetKernelsWith(BoxRayLoadFn load) {
+  return {load, &traversePacket<NodeTest>, &testTrianglesWith<Lanes>};
 }
 
 }  // namespace

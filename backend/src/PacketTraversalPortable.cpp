@@ -1,5 +1,6 @@
 // The portable packet kernel: SSE (the x86-64 baseline) tests one child box against four lanes
 // per instruction; other targets use plain C++ with the same arithmetic.
+#include "PacketRays.h"
 #include "PacketTraversalImpl.h"
 #include "PacketTriangleTest.h"
 
@@ -173,7 +174,7 @@ using PortableLanes = Lanes1;
 }  // namespace
 
 PacketKernels packetKernelsPortable() {
-  return packetKernelsWith<PortableNodeTest, PortableLanes>();
+  return packetKernelsWith<PortableNodeTest, PortableLanes>(&loadPacketBoxRays);
 }
 
 }  // namespace tg::detail

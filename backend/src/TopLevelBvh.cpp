@@ -293,28 +293,8 @@ struct TopLevelPacketWalk {
   /// Loads the world rays of `lanes` whose direction signs match the first traceable lane's;
   /// leaves the lanes whose rays are not traceable out of `lanes`.
   unsigned load(unsigned& lanes, PacketBoxRays& boxRays) {
-    // All eight rays straight into their rows, directions where the reciprocals go
-    // (setPacketReciprocals divides them). Lanes outside `coherent` get the first lane's values.
-    float* const rows[8] = {boxRays.origin[0],     boxRays.origin[1],     boxRays.origin[2],
-                            boxRays.tnear,         boxRays.reciprocal[0], boxRays.reciprocal[1],
-                            boxRays.reciprocal[2], boxRays.tfar};
-    loadRayRows(rays, rows);
-    lanes &= traceableLanes(rows);
-    if (lanes == 0) return 0;
-    const unsigned firstLane = static_cast<unsigned>(__builtin_ctz(lanes));
-    unsigned coherent = lanes, signs = 0;
-    for (int a = 0; a < 3; ++a) {
-      const unsigned negative = negativeLanes(boxRays.reciprocal[a]);
-      const bool leadNegative = (negative >> firstLane) & 1u;
-      signs |= (leadNegative ? 1u : 0u) << a;
-      coherent &= leadNegative ? negative : ~negative;
-    }
-    if (hits) lowerToHits(boxRays.tfar, hits);
-    setPacketRows(boxRays, signs);
-    fillUnusedLanes(boxRays, coherent, firstLane);
-    setPacketReciprocals(boxRays);
-    walkLanes = coherent;
-    return coherent;
+    walkLanes = activePacketKernels().loadBoxRays(rays, hits, lanes, boxRays);
+    return walkLanes;
   }
 
   /// Walks the traceable lanes of `lanes` of `rays` group by group: each group of equal
