@@ -477,7 +477,7 @@ void setTriangleLane(PacketTriangleRays& tri, unsigned l, const WatertightRay& r
 }
 
 /// The triangle-test part of BvhAccel::loadPacket for its lanes `coherent` (first lane included):
-/// the ones with the first lane's axis permutation share the pre-filter's layout.
+/// the ones with the first lane's axis permutation share the SIMD triangle test's layout.
 void loadPacketTriangles(const ObjectRayPacket& packet, unsigned coherent, BvhPacketRays& out) {
   const WatertightRay& lead = packet.rays[__builtin_ctz(coherent)].wt;
   PacketTriangleRays& tri = out.triangles;

@@ -13,7 +13,7 @@
 namespace tg::detail {
 
 /// A packet as BvhAccel's packet walk reads it (BvhAccel::loadPacket): the box-test rays of the
-/// lanes that share the first lane's direction signs, and the triangle pre-filter's rays of
+/// lanes that share the first lane's direction signs, and the SIMD triangle test's rays of
 /// those that also share its axis permutation. A caller that sends the same rays into several
 /// objects (identity instances) loads them once.
 struct BvhPacketRays {
