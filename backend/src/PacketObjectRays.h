@@ -9,9 +9,91 @@
 #include <emmintrin.h>
 #endif
 
+#include "PacketRays.h"
 #include "tracegraph/backend/TopLevelAccel.h"
 
 namespace tg::detail {
+
+/// mapPacketToObject for an identity instance, whose object rays are the world rays: the axis
+/// permutation, shear constants and reciprocals of all eight lanes from the rays' rows, four
+/// lanes per instruction where SSE is available, then one pass of stores per lane. Choosing the
+/// permutation per lane and scattering the divisions' operands were most of the scalar
+/// mapping's work.
+inline void mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
+                              const float* tfar, ObjectRayPacket& out) {
+  PacketRayRows rows;
+  loadRayRows(rays, rows);
+  // Per lane: kz (the first largest |direction| component, as maxDimension picks it) as the
+  // bits of zIsX / zIsY (neither: z), and the shear constants and reciprocals. Lanes outside
+  // `lanes` compute numbers nobody reads.
+  unsigned zIsX = 0, zIsY = 0;
+  alignas(16) float sx[kRayPacketSize], sy[kRayPacketSize], inverse[3][kRayPacketSize];
+#if defined(__SSE2__)
+  const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
+  const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
+  const auto select = [](__m128 mask, __m128 a, __m128 b) {
+    return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+  };
+  for (unsigned h = 0; h < kRayPacketSize; h += 4) {
+    const __m128 dx = _mm_load_ps(rows.row[4] + h), dy = _mm_load_ps(rows.row[5] + h),
+                 dz = _mm_load_ps(rows.row[6] + h);
+    const __m128 ax = _mm_and_ps(dx, absMask), ay = _mm_and_ps(dy, absMask),
+                 az = _mm_and_ps(dz, absMask);
+    const __m128 xGeY = _mm_cmpge_ps(ax, ay);
+    const __m128 x = _mm_and_ps(xGeY, _mm_cmpge_ps(ax, az));
+    const __m128 y = _mm_andnot_ps(xGeY, _mm_cmpge_ps(ay, az));
+    // kz = x: (kx, ky) = (y, z); kz = y: (z, x); kz = z: (x, y); swapped when dir[kz] < 0.
+    const __m128 dkz = select(x, dx, select(y, dy, dz));
+    const __m128 dkx = select(x, dy, select(y, dz, dx));
+    const __m128 dky = select(x, dz, select(y, dx, dy));
+    const __m128 swap = _mm_cmplt_ps(dkz, zero);
+    _mm_store_ps(sx + h, _mm_div_ps(select(swap, dky, dkx), dkz));
+    _mm_store_ps(sy + h, _mm_div_ps(select(swap, dkx, dky), dkz));
+    _mm_store_ps(inverse[0] + h, _mm_div_ps(one, dx));
+    _mm_store_ps(inverse[1] + h, _mm_div_ps(one, dy));
+    _mm_store_ps(inverse[2] + h, _mm_div_ps(one, dz));
+    zIsX |= static_cast<unsigned>(_mm_movemask_ps(x)) << h;
+    zIsY |= static_cast<unsigned>(_mm_movemask_ps(y)) << h;
+  }
+#else
+  for (unsigned l = 0; l < kRayPacketSize; ++l) {
+    const Vec3f dir{rows.row[4][l], rows.row[5][l], rows.row[6][l]};
+    const int kz = maxDimension(abs(dir));
+    zIsX |= (kz == 0 ? 1u : 0u) << l;
+    zIsY |= (kz == 1 ? 1u : 0u) << l;
+    int kx = kz == 2 ? 0 : kz + 1;
+    int ky = kx == 2 ? 0 : kx + 1;
+    if (dir[kz] < 0.0f) std::swap(kx, ky);
+    sx[l] = dir[kx] / dir[kz];
+    sy[l] = dir[ky] / dir[kz];
+    for (int a = 0; a < 3; ++a) inverse[a][l] = 1.0f / dir[a];
+  }
+#endif
+  for (unsigned m = lanes; m != 0; m &= m - 1) {
+    const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+    ObjectRay& r = out.rays[l];
+    WatertightRay& wt = r.wt;
+    wt.origin = {rows.row[0][l], rows.row[1][l], rows.row[2][l]};
+    wt.direction = {rows.row[4][l], rows.row[5][l], rows.row[6][l]};
+    wt.originD = Vec3d(wt.origin);
+    wt.directionD = Vec3d(wt.direction);
+    wt.tnear = rows.row[3][l];
+    const int kz = (zIsX >> l) & 1u ? 0 : ((zIsY >> l) & 1u ? 1 : 2);
+    int kx = kz == 2 ? 0 : kz + 1;
+    int ky = kx == 2 ? 0 : kx + 1;
+    if (wt.direction[kz] < 0.0f) std::swap(kx, ky);
+    wt.kx = kx;
+    wt.ky = ky;
+    wt.kz = kz;
+    wt.sx = sx[l];
+    wt.sy = sy[l];
+    r.inverseDirection = Vec3f(inverse[0][l], inverse[1][l], inverse[2][l]);
+    wt.sz = inverse[kz][l];
+    r.tfar = tfar[l];
+    r.instanceId = inst.instanceId;
+    r.objectId = inst.objectId;
+  }
+}
 
 /// Writes out.rays[l] = objectRayFor(inst, rays[l], tfar[l]) for every lane l of `lanes`, bit for
 /// bit. Each object ray needs five divisions (the shear constants sx and sy, and the reciprocal
@@ -21,6 +103,10 @@ namespace tg::detail {
 /// constructor's. Every field of the lanes is written: `out` may be uninitialised storage.
 inline void mapPacketToObject(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
                               const float* tfar, ObjectRayPacket& out) {
+  if (inst.identity) {
+    mapIdentityPacket(inst, rays, lanes, tfar, out);
+    return;
+  }
   constexpr unsigned kLanes = kRayPacketSize;
   // Rows: sx = dir[kx] / dir[kz], sy = dir[ky] / dir[kz], then 1 / dir.x, 1 / dir.y, 1 / dir.z.
   // Lanes outside `lanes` divide 1 by 1.
@@ -36,19 +122,12 @@ inline void mapPacketToObject(const InstanceRecord& inst, const Ray* rays, unsig
     ObjectRay& r = out.rays[l];
     WatertightRay& wt = r.wt;
     const Ray& ray = rays[l];
-    // As objectRayFor: an identity instance takes the float ray as it is; any other maps it in
-    // double, and the float ray is the rounding of the double one.
-    if (inst.identity) {
-      wt.origin = ray.origin;
-      wt.direction = ray.direction;
-      wt.originD = Vec3d(ray.origin);
-      wt.directionD = Vec3d(ray.direction);
-    } else {
-      wt.originD = inst.worldToObjectD.transformPoint(Vec3d(ray.origin));
-      wt.directionD = inst.worldToObjectD.transformVector(Vec3d(ray.direction));
-      wt.origin = Vec3f(wt.originD);
-      wt.direction = Vec3f(wt.directionD);
-    }
+    // As objectRayFor for a transformed instance: the ray is mapped in double, and the float
+    // ray is the rounding of the double one.
+    wt.originD = inst.worldToObjectD.transformPoint(Vec3d(ray.origin));
+    wt.directionD = inst.worldToObjectD.transformVector(Vec3d(ray.direction));
+    wt.origin = Vec3f(wt.originD);
+    wt.direction = Vec3f(wt.directionD);
     wt.tnear = ray.tnear;
     // The axis permutation of WatertightRay's constructor.
     const Vec3f& dir = wt.direction;

@@ -284,6 +284,10 @@ BOOST_AUTO_TEST_CASE(packet_object_rays_equal_single_mapping) {
       rays[l].direction = {coord(rng), coord(rng), coord(rng)};
       if ((trial + l) % 5 == 0) rays[l].direction.x = 0.0f;
       if ((trial + l) % 7 == 0) rays[l].direction.y = -0.0f;
+      // Ties for the largest component, which the axis permutation breaks towards x, then y.
+      if ((trial + l) % 11 == 3) rays[l].direction.z = -rays[l].direction.x;
+      if ((trial + l) % 13 == 4) rays[l].direction.y = rays[l].direction.z;
+      if ((trial + l) % 17 == 5) rays[l].direction = {-2.0f, 2.0f, -2.0f};
       rays[l].tnear = static_cast<float>(l) * 0.25f;
       tfar[l] = 10.0f + static_cast<float>(l);
     }
