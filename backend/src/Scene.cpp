@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -382,7 +383,13 @@ void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalC
     if (base + 3 * kRayPacketSize <= rays.size())
       for (std::size_t line = 0; line < sizeof(Ray) * kRayPacketSize; line += 64)
         __builtin_prefetch(reinterpret_cast<const char*>(packet + 2 * kRayPacketSize) + line);
-    for (std::size_t l = 0; l < n; ++l) packetHits[l] = Hit{};
+    // One block copy of default hits (a fixed size for full packets, which the compiler turns
+    // into a few vector moves): assigning Hit{} lane by lane stored field by field.
+    static constexpr Hit kNoHits[kRayPacketSize] = {};
+    if (n == kRayPacketSize)
+      std::memcpy(static_cast<void*>(packetHits), kNoHits, sizeof(kNoHits));
+    else
+      std::memcpy(static_cast<void*>(packetHits), kNoHits, n * sizeof(Hit));
     if (n < kRayPacketSize) {
       // The packet walk reads kRayPacketSize rays; a short tail goes through a full-size copy.
       Ray tail[kRayPacketSize];
