@@ -521,13 +521,14 @@ void BvhAccel::loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPack
   loadPacketTriangles(packet, coherent, out);
 }
 
-void BvhAccel::loadIdentityPacket(const ObjectRayPacket& packet, const PacketBoxRays& world,
-                                  unsigned lanes, BvhPacketRays& out) {
+void BvhAccel::loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, unsigned filtered,
+                                  BvhPacketRays& out) {
   // An identity instance's object rays are the world rays (origin, tnear, and reciprocals that
   // are correctly rounded quotients either way, +inf for zeros in the box rows), so every lane
   // has the world signs and the box rows are the world's.
   out.box = world;
-  loadPacketTriangles(packet, lanes, out);
+  out.coherent = lanes;
+  out.filtered = filtered;
 }
 
 unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays,

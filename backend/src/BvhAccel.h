@@ -54,12 +54,13 @@ class BvhAccel final : public ObjectAccel {
 
   /// Loads the lanes of `packet` in `lanes` into `out` (see BvhPacketRays).
   static void loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPacketRays& out);
-  /// loadPacket for the packet of an identity instance (mapPacketToObject of `lanes`), whose
-  /// box rays are `world`: the world rays of `lanes`, loaded for the top-level walk (same
-  /// direction signs, unused lanes filled from the first). The box part is a copy of `world`
-  /// (lane tfar as `world` holds it), equal to what loadPacket computes lane by lane.
-  static void loadIdentityPacket(const ObjectRayPacket& packet, const PacketBoxRays& world,
-                                 unsigned lanes, BvhPacketRays& out);
+  /// loadPacket for the packet of an identity instance (lanes `lanes`), whose box rays are
+  /// `world`: the world rays of `lanes`, loaded for the top-level walk (same direction signs,
+  /// unused lanes filled from the first), and whose triangle rows mapIdentityPacket wrote into
+  /// out.triangles, returning `filtered`. The box part is a copy of `world` (lane tfar as
+  /// `world` holds it), equal to what loadPacket computes lane by lane.
+  static void loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, unsigned filtered,
+                                 BvhPacketRays& out);
   /// intersectPacket for lanes already loaded: `lanes` lie in rays.coherent, and rays.box.tfar
   /// of each equals its packet ray's tfar. Returns the lanes whose hit changed.
   unsigned intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned lanes,

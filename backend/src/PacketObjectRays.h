@@ -9,6 +9,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "PacketKernel.h"
 #include "PacketRays.h"
 #include "tracegraph/backend/TopLevelAccel.h"
 
@@ -19,14 +20,20 @@ namespace tg::detail {
 /// lanes per instruction where SSE is available, then one pass of stores per lane. Choosing the
 /// permutation per lane and scattering the divisions' operands were most of the scalar
 /// mapping's work.
-inline void mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
-                              const float* tfar, ObjectRayPacket& out) {
+///
+/// With `triangles`, also writes the SIMD triangle test's rows of `lanes` (what
+/// BvhAccel::loadPacket gathers from the object rays, straight from the same rows) and returns
+/// the lanes that share the first lane's axis permutation, which that test takes; the other
+/// lanes' rows hold the first lane's values. Returns 0 without.
+inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
+                                  const float* tfar, ObjectRayPacket& out,
+                                  PacketTriangleRays* triangles = nullptr) {
   PacketRayRows rows;
   loadRayRows(rays, rows);
   // Per lane: kz (the first largest |direction| component, as maxDimension picks it) as the
   // bits of zIsX / zIsY (neither: z), and the shear constants and reciprocals. Lanes outside
   // `lanes` compute numbers nobody reads.
-  unsigned zIsX = 0, zIsY = 0;
+  unsigned zIsX = 0, zIsY = 0, swapped = 0;
   alignas(16) float sx[kRayPacketSize], sy[kRayPacketSize], inverse[3][kRayPacketSize];
 #if defined(__SSE2__)
   const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
@@ -54,6 +61,7 @@ inline void mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsig
     _mm_store_ps(inverse[2] + h, _mm_div_ps(one, dz));
     zIsX |= static_cast<unsigned>(_mm_movemask_ps(x)) << h;
     zIsY |= static_cast<unsigned>(_mm_movemask_ps(y)) << h;
+    swapped |= static_cast<unsigned>(_mm_movemask_ps(swap)) << h;
   }
 #else
   for (unsigned l = 0; l < kRayPacketSize; ++l) {
@@ -64,6 +72,7 @@ inline void mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsig
     int kx = kz == 2 ? 0 : kz + 1;
     int ky = kx == 2 ? 0 : kx + 1;
     if (dir[kz] < 0.0f) std::swap(kx, ky);
+    swapped |= (dir[kz] < 0.0f ? 1u : 0u) << l;
     sx[l] = dir[kx] / dir[kz];
     sy[l] = dir[ky] / dir[kz];
     for (int a = 0; a < 3; ++a) inverse[a][l] = 1.0f / dir[a];
@@ -93,6 +102,47 @@ inline void mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsig
     r.instanceId = inst.instanceId;
     r.objectId = inst.objectId;
   }
+  if (triangles == nullptr || lanes == 0) return 0;
+  // The permutation is fixed by kz and the swap: lanes whose three bits equal the first lane's.
+  const unsigned lead = static_cast<unsigned>(__builtin_ctz(lanes));
+  const auto same = [&](unsigned bits) { return (bits >> lead) & 1u ? bits : ~bits; };
+  const unsigned filtered = lanes & same(zIsX) & same(zIsY) & same(swapped);
+  const WatertightRay& first = out.rays[lead].wt;
+  PacketTriangleRays& tri = *triangles;
+  tri.kx = first.kx;
+  tri.ky = first.ky;
+  tri.kz = first.kz;
+#if defined(__SSE2__)
+  if (filtered == (1u << kRayPacketSize) - 1u) {
+    // Every lane takes the test (the common case): whole rows, doubles two lanes at a time.
+    for (unsigned h = 0; h < kRayPacketSize; h += 4) {
+      for (int a = 0; a < 3; ++a) {
+        const __m128 o = _mm_load_ps(rows.row[a] + h), d = _mm_load_ps(rows.row[4 + a] + h);
+        _mm_store_ps(tri.origin[a] + h, o);
+        _mm_storeu_pd(tri.originD[a] + h, _mm_cvtps_pd(o));
+        _mm_storeu_pd(tri.originD[a] + h + 2, _mm_cvtps_pd(_mm_movehl_ps(o, o)));
+        _mm_storeu_pd(tri.directionD[a] + h, _mm_cvtps_pd(d));
+        _mm_storeu_pd(tri.directionD[a] + h + 2, _mm_cvtps_pd(_mm_movehl_ps(d, d)));
+      }
+      _mm_store_ps(tri.sx + h, _mm_load_ps(sx + h));
+      _mm_store_ps(tri.sy + h, _mm_load_ps(sy + h));
+      _mm_store_ps(tri.tnear + h, _mm_load_ps(rows.row[3] + h));
+    }
+    return filtered;
+  }
+#endif
+  for (unsigned l = 0; l < kRayPacketSize; ++l) {
+    const unsigned from = (filtered >> l) & 1u ? l : lead;
+    for (int a = 0; a < 3; ++a) {
+      tri.origin[a][l] = rows.row[a][from];
+      tri.originD[a][l] = rows.row[a][from];
+      tri.directionD[a][l] = rows.row[4 + a][from];
+    }
+    tri.sx[l] = sx[from];
+    tri.sy[l] = sy[from];
+    tri.tnear[l] = rows.row[3][from];
+  }
+  return filtered;
 }
 
 /// Writes out.rays[l] = objectRayFor(inst, rays[l], tfar[l]) for every lane l of `lanes`, bit for

@@ -145,9 +145,11 @@ struct TopLevelPacketWalk {
   unsigned walkLanes = 0;
   /// Object packet of the transformed instance being entered.
   UninitialisedObjectPacket mapped;
-  /// Object packet of identity instances; valid once identityReady.
+  /// Object packet of identity instances; valid once identityReady, as are the triangle rows
+  /// of identityBvh and the lanes they serve.
   UninitialisedObjectPacket identity;
   bool identityReady = false;
+  unsigned identityFiltered = 0;
   /// `identity` loaded for BvhAccel; valid once identityBvhReady.
   BvhPacketRays identityBvh;
   bool identityBvhReady = false;
@@ -172,7 +174,9 @@ struct TopLevelPacketWalk {
         const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
         limits[l] = rays[l].tfar;
       }
-      mapPacketToObject(inst, rays, walkLanes, limits, packet);
+      // The triangle rows for a BvhAccel come from the same pass (identityBvhRays).
+      identityFiltered =
+          mapIdentityPacket(inst, rays, walkLanes, limits, packet, &identityBvh.triangles);
       identityReady = true;
     }
     for (unsigned m = lanes; m != 0; m &= m - 1) {
@@ -193,7 +197,7 @@ struct TopLevelPacketWalk {
   BvhPacketRays& identityBvhRays(unsigned lanes, const PacketBoxRays& world) {
     if (!identityBvhReady) {
       const ObjectRayPacket& packet = identity.get();
-      BvhAccel::loadIdentityPacket(packet, world, walkLanes, identityBvh);
+      BvhAccel::loadIdentityPacket(world, walkLanes, identityFiltered, identityBvh);
       identityBvhReady = true;
       for (unsigned m = lanes; m != 0; m &= m - 1) {
         const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
