@@ -46,6 +46,9 @@ struct BvhBuildOptions {
   float intersectionCost = 1.0f;
   /// Ranges with more primitives bin in parallel and build their subtrees as parallel tasks.
   std::size_t parallelThreshold = 4096;
+  /// Ranges with more primitives are partitioned in chunks of this many, in parallel. The
+  /// chunks depend on this alone, never on the thread count, so neither does the tree.
+  std::size_t partitionChunk = std::size_t(1) << 14;
 
   /// Largest supported bin count.
   static constexpr int kMaxBins = 32;

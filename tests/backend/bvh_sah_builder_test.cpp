@@ -1,13 +1,15 @@
 // The binned-SAH BVH4 builder on its own: tree structure (every primitive in exactly one leaf,
 // tight boxes, leaf sizes), awkward inputs (no primitive, one, equal centroids, point boxes),
 // the same tree whatever the thread count on the parallel paths (subtree tasks, subtrees
-// numbered on their own thread, the SAH cost gathered on the way), and the SSE bin mapping
+// numbered on their own thread, the SAH cost gathered on the way), chunked partitions giving
+// the tree of serial ones, and the SSE bin mapping
 // agreeing with the scalar one the partition uses.
 #define BOOST_TEST_MODULE bvh_sah_builder
 #include <boost/test/unit_test.hpp>
 
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -183,6 +185,52 @@ BOOST_AUTO_TEST_CASE(trees_do_not_depend_on_the_thread_count) {
     BOOST_TEST(sameOrder);
     BOOST_TEST(bvh4SahCost(out[0].nodes, 1.0, 1.0) == bvh4SahCost(out[1].nodes, 1.0, 1.0));
     // Subtrees report their SAH sums in slot order, whichever thread built them.
+    BOOST_TEST(out[0].sahCost == out[1].sahCost);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(chunked_partitions_give_the_serial_tree) {
+  // Large ranges are partitioned chunk by chunk, and the misplaced primitives trade places
+  // afterwards. That changes the order within a side, never the sides: the tree must be the
+  // one of serial partitions, with the same primitives in every leaf. Small chunks give many
+  // runs of misplaced primitives on both sides.
+  const std::vector<Box3f> boxes = randomBoxes(30000, 13, 200.0f, 3.0f);
+  // Ids of every leaf, each leaf's sorted, depth first from the root (node numbers depend on
+  // which thread took a number first; the walk does not).
+  const auto leafIds = [](const BvhBuildResult& out, const std::vector<BvhPrim>& prims) {
+    std::vector<std::uint32_t> ids;
+    std::vector<std::uint32_t> stack{0};
+    while (!stack.empty()) {
+      const Bvh4Node& node = out.nodes[stack.back()];
+      stack.pop_back();
+      for (int s = 0; s < 4; ++s) {
+        if (node.child[s] == kInvalidId) continue;
+        if (node.count[s] == 0) {
+          stack.push_back(node.child[s]);
+          continue;
+        }
+        const std::size_t first = ids.size();
+        for (std::uint32_t k = 0; k < node.count[s]; ++k)
+          ids.push_back(prims[node.child[s] + k].id);
+        std::sort(ids.begin() + static_cast<std::ptrdiff_t>(first), ids.end());
+      }
+    }
+    return ids;
+  };
+  for (const bool allAxes : {true, false}) {
+    BvhBuildOptions options;
+    options.allAxes = allAxes;
+    std::vector<BvhPrim> prims[2];
+    BvhBuildResult out[2];
+    TreeCheck c[2];
+    options.partitionChunk = boxes.size();  // every partition serial
+    c[0] = buildAndCheck(boxes, options, false, prims[0], out[0]);
+    options.partitionChunk = 777;
+    c[1] = buildAndCheck(boxes, options, false, prims[1], out[1]);
+    BOOST_TEST(c[0].errors == 0u, c[0].firstError);
+    BOOST_TEST(c[1].errors == 0u, c[1].firstError);
+    BOOST_TEST((c[0].shape == c[1].shape));
+    BOOST_TEST((leafIds(out[0], prims[0]) == leafIds(out[1], prims[1])));
     BOOST_TEST(out[0].sahCost == out[1].sahCost);
   }
 }
