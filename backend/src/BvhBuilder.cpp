@@ -88,15 +88,21 @@ std::size_t partitionBinned(BvhPrim* p, std::size_t begin, std::size_t end, floa
   const BinMapping map{_mm_set1_ps(origin), _mm_set1_ps(scale),
                        _mm_set1_ps(static_cast<float>(bins - 1))};
   const __m128i split = _mm_set1_epi32(bin);
+  // The centroid bounds grow in locals: through the references, the compiler must assume that
+  // the swaps' stores may change them, and kept them in memory, which chained every primitive
+  // to the previous one's store (partitions took twice as long).
+  SseBox leftCentroids = lc, rightCentroids = rc;
   std::size_t mid = begin;
   for (std::size_t i = begin; i < end; ++i) {
     const __m128 lo = primLower(p[i]), hi = primUpper(p[i]);
     const __m128i left = _mm_cmplt_epi32(map.bins(lo, hi), split);
     const __m128i m = _mm_shuffle_epi32(left, Axis * 0x55);
-    addCentroid(_mm_add_ps(lo, hi), _mm_castsi128_ps(m), lc, rc);
+    addCentroid(_mm_add_ps(lo, hi), _mm_castsi128_ps(m), leftCentroids, rightCentroids);
     swapPrims(p[i], p[mid]);
     mid += static_cast<std::size_t>(_mm_cvtsi128_si32(m) & 1);
   }
+  lc = leftCentroids;
+  rc = rightCentroids;
   return mid;
 }
 
