@@ -17,7 +17,6 @@
 #define TG_BVH4_SSE 0
 #endif
 
-#include "HugePageAllocator.h"
 #include "tracegraph/backend/Box3.h"
 #include "tracegraph/backend/Ray.h"
 
@@ -76,8 +75,29 @@ struct alignas(64) Bvh4Node {
   bool isInner(int s) const { return count[s] == 0 && child[s] != kInvalidId; }
 };
 
-/// The node array of a BVH4, root first, on huge pages when large (HugePageAllocator.h).
-using Bvh4NodeArray = std::vector<Bvh4Node, HugePageAllocator<Bvh4Node>>;
+/// An allocator whose value-less construct default-initialises: growing a vector of nodes that
+/// are about to be overwritten then costs no pass over memory (per-frame top-level rebuilds).
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() = default;
+  template <class U>
+  explicit DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+/// The node array of a BVH4, root first.
+using Bvh4NodeArray = std::vector<Bvh4Node, DefaultInitAllocator<Bvh4Node>>;
 
 /// Relative widening of box intervals: the slab distance (b - o) * (1/d) is rounded three
 /// times (difference, reciprocal, product); one more ulp of margin keeps rays that graze a box

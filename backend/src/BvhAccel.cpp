@@ -269,12 +269,11 @@ void BvhAccel::refitFromMesh(const TriangleMesh& mesh) {
 void BvhAccel::finishStats() {
   stats_.refitted = false;
   stats_.nodes = nodes_.size() + stats_.leaves;
-  stats_.bytes = largeAllocationBytes(nodes_.capacity() * sizeof(Bvh4Node)) +
-                 largeAllocationBytes(triangles_.capacity() * sizeof(TriangleVertices)) +
-                 primIds_.capacity() * sizeof(std::uint32_t) +
-                 indices_.capacity() * sizeof(std::uint32_t) + prims_.capacity() * sizeof(BvhPrim) +
-                 centroids_.capacity() * sizeof(Vec3f) + rank_.capacity() * sizeof(std::uint32_t) +
-                 morton_.scratchBytes();
+  stats_.bytes =
+      nodes_.capacity() * sizeof(Bvh4Node) + triangles_.capacity() * sizeof(TriangleVertices) +
+      primIds_.capacity() * sizeof(std::uint32_t) + indices_.capacity() * sizeof(std::uint32_t) +
+      prims_.capacity() * sizeof(BvhPrim) + centroids_.capacity() * sizeof(Vec3f) +
+      rank_.capacity() * sizeof(std::uint32_t) + morton_.scratchBytes();
 }
 
 bool BvhAccel::intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) const {

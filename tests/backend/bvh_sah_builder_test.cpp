@@ -2,7 +2,7 @@
 // tight boxes, leaf sizes), awkward inputs (no primitive, one, equal centroids, point boxes),
 // the same tree whatever the thread count on the parallel paths (subtree tasks, subtrees
 // numbered on their own thread, the SAH cost gathered on the way), chunked partitions giving
-// the tree of serial ones, large node arrays on huge pages, and the SSE bin mapping
+// the tree of serial ones, and the SSE bin mapping
 // agreeing with the scalar one the partition uses.
 #define BOOST_TEST_MODULE bvh_sah_builder
 #include <boost/test/unit_test.hpp>
@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <random>
 #include <string>
@@ -21,7 +20,6 @@
 #include "Bvh4TreeWalk.h"
 #include "BvhBinning.h"
 #include "BvhBuilder.h"
-#include "HugePageAllocator.h"
 
 using namespace tg;
 using namespace tg::detail;
@@ -308,26 +306,4 @@ BOOST_AUTO_TEST_CASE(sse_bins_equal_scalar_bins) {
     }
   }
   BOOST_TEST(mismatches == 0u);
-}
-
-BOOST_AUTO_TEST_CASE(large_node_arrays_start_on_a_huge_page) {
-  // Node arrays of a megabyte or two: the small one from operator new, aligned as a node; the
-  // large one on whole 2 MiB pages, aligned to one (so that the system can back it with huge
-  // pages), and counted as such in the memory statistics. Both hold what is written.
-  for (const std::size_t count : {std::size_t(1000), kHugePageBytes / sizeof(Bvh4Node) + 1}) {
-    Bvh4NodeArray nodes(count);
-    const auto address = reinterpret_cast<std::uintptr_t>(nodes.data());
-    BOOST_TEST(address % alignof(Bvh4Node) == 0u);
-    const std::size_t bytes = count * sizeof(Bvh4Node);
-    if (bytes >= kHugePageBytes) {
-      BOOST_TEST(address % kHugePageBytes == 0u);
-      BOOST_TEST(largeAllocationBytes(bytes) == 2 * kHugePageBytes);
-    } else {
-      BOOST_TEST(largeAllocationBytes(bytes) == bytes);
-    }
-    for (std::size_t i = 0; i < count; ++i) nodes[i].child[0] = static_cast<std::uint32_t>(i);
-    bool kept = true;
-    for (std::size_t i = 0; i < count; ++i) kept = kept && nodes[i].child[0] == i;
-    BOOST_TEST(kept);
-  }
 }
