@@ -34,6 +34,15 @@ struct WatertightRay {
   float sx = 0.0f, sy = 0.0f, sz = 1.0f;  ///< shear constants
   ///@}
 
+  /// The axis permutation for a direction whose dominant axis is `kz` (the first largest
+  /// |component|): kx and ky follow kz cyclically, swapped when dir[kz] < 0 so that the sheared
+  /// triangle keeps its winding whatever the ray's orientation. Packet mappings use it too.
+  static void shearAxes(const Vec3f& dir, int kz, int& kx, int& ky) {
+    kx = kz == 2 ? 0 : kz + 1;
+    ky = kx == 2 ? 0 : kx + 1;
+    if (dir[kz] < 0.0f) std::swap(kx, ky);
+  }
+
   WatertightRay() = default;
   /// `direction` must be finite and non-zero (the scene rejects other rays before traversal).
   WatertightRay(const Vec3f& org, const Vec3f& dir, float tnear_)
@@ -48,10 +57,7 @@ struct WatertightRay {
       : origin(org), direction(dir), originD(orgD), directionD(dirD), tnear(tnear_) {
     const Vec3f ad = abs(dir);
     kz = maxDimension(ad);
-    kx = kz == 2 ? 0 : kz + 1;
-    ky = kx == 2 ? 0 : kx + 1;
-    // Keep the winding of the sheared triangle independent of the ray's orientation.
-    if (dir[kz] < 0.0f) std::swap(kx, ky);
+    shearAxes(dir, kz, kx, ky);
     sx = dir[kx] / dir[kz];
     sy = dir[ky] / dir[kz];
     sz = 1.0f / dir[kz];
