@@ -6,12 +6,14 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "tracegraph/backend/Affine.h"
 #include "tracegraph/backend/Scene.h"
 #include "tracegraph/backend/TriangleMesh.h"
+#include "tracegraph/backend/render/Camera.h"
 
 namespace tg::bench {
 
@@ -26,6 +28,9 @@ struct BenchScene {
   std::string name;  ///< what the user asked for, e.g. "builtin:sphereflake"
   std::vector<TriangleMesh> meshes;
   std::vector<BenchInstance> instances;
+  /// The scene file's own camera at the frame loaded (image size left to the suite); empty for
+  /// built-in scenes and files without a camera.
+  std::optional<CameraParams> camera;
 
   /// Triangles summed over instances.
   std::size_t instancedTriangleCount() const;

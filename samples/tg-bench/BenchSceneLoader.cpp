@@ -12,6 +12,7 @@
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/loaders/AffLoader.h"
 #include "tracegraph/scenegraph/SceneGraph.h"
+#include "tracegraph/scenegraph/SceneRenderer.h"
 
 namespace tg::bench {
 namespace {
@@ -53,7 +54,10 @@ BenchScene loadAffFile(const std::string& path) {
   graph.setRoot(aff.root);
   graph.advanceTo(aff.frameTime(0));
   graph.sync();
-  return flattenSyncedScene(graph);
+  BenchScene bench = flattenSyncedScene(graph);
+  // The size is the suite's to choose.
+  if (const std::optional<WorldCamera> c = graph.camera()) bench.camera = cameraParamsOf(*c, 1, 1);
+  return bench;
 }
 
 }  // namespace

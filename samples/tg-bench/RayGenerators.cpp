@@ -51,6 +51,18 @@ std::vector<Ray> makePrimaryRays(const PinholeCamera& camera, ImageSize size) {
   return rays;
 }
 
+std::vector<Ray> makePrimaryRays(const CameraParams& params, ImageSize size) {
+  CameraParams p = params;
+  p.width = static_cast<std::uint32_t>(size.width);
+  p.height = static_cast<std::uint32_t>(size.height);
+  const Camera camera(p);
+  std::vector<Ray> rays(size.pixels());
+  for (std::uint32_t y = 0; y < p.height; ++y)
+    for (std::uint32_t x = 0; x < p.width; ++x)
+      rays[static_cast<std::size_t>(y) * p.width + x] = camera.primaryRay(x, y);
+  return rays;
+}
+
 Vec3f lightAbove(const Box3f& bounds) {
   const Vec3f centre = bounds.center();
   const float radius = 0.5f * length(bounds.extent());

@@ -10,6 +10,7 @@
 
 #include "tracegraph/backend/Box3.h"
 #include "tracegraph/backend/Ray.h"
+#include "tracegraph/backend/render/Camera.h"
 
 namespace tg::bench {
 
@@ -39,6 +40,9 @@ PinholeCamera frameBounds(const Box3f& bounds, ImageSize size);
 
 /// One unit-direction ray through the centre of each pixel, row-major from the top row.
 std::vector<Ray> makePrimaryRays(const PinholeCamera& camera, ImageSize size);
+/// The renderer's primary rays (Camera::primaryRay) of `params` at `size`, row-major from the
+/// top row: the rays a frame of the scene traces.
+std::vector<Ray> makePrimaryRays(const CameraParams& params, ImageSize size);
 
 /// A point light above the scene: over the centre (shifted a little so that shadows are not
 /// symmetric), higher than the top of `bounds` by 1.5 bounding radii.

@@ -45,6 +45,9 @@ struct TraceOptions {
   std::string scene;
   std::string rays = "primary";  ///< "primary" or "shadow"
   ImageSize size;
+  /// "bounds": a camera outside the scene framing its bounds; "scene": the scene file's own
+  /// camera (its first frame), the view a renderer of the file traces.
+  std::string view = "bounds";
 };
 
 /// Default repetitions of the sync suite: an edit's sync and a frame step are short, so more

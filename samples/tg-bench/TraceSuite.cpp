@@ -154,9 +154,12 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
   const bool shadow = options.rays == "shadow";
   const BenchScene bench = loadBenchScene(options.scene);
   BenchReport report = startReport("trace", common);
-  const std::string caseName = options.scene + " " + options.rays + " " +
-                               std::to_string(options.size.width) + "x" +
-                               std::to_string(options.size.height);
+  const bool sceneView = options.view == "scene";
+  if (sceneView && !bench.camera)
+    throw Error("trace --view scene: '" + options.scene + "' has no camera of its own");
+  const std::string caseName =
+      options.scene + " " + options.rays + " " + std::to_string(options.size.width) + "x" +
+      std::to_string(options.size.height) + (sceneView ? " scene view" : "");
   tbb::task_arena arena(common.threads);
 
   progress("trace: building " + options.scene);
@@ -172,7 +175,9 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
   const Box3f bounds = scene.bounds();
   if (bounds.empty()) throw Error("scene '" + options.scene + "' has no triangles to trace");
 
-  const std::vector<Ray> primary = makePrimaryRays(frameBounds(bounds, options.size), options.size);
+  const std::vector<Ray> primary =
+      sceneView ? makePrimaryRays(*bench.camera, options.size)
+                : makePrimaryRays(frameBounds(bounds, options.size), options.size);
   std::vector<Ray> rays;
   if (shadow) {
     std::vector<SurfaceHit> hits;

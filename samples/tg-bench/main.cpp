@@ -102,6 +102,12 @@ int main(int argc, char** argv) {
   traceCmd->add_option("--rays", trace.rays, "Ray kind")
       ->check(CLI::IsMember({"primary", "shadow"}))
       ->capture_default_str();
+  traceCmd
+      ->add_option("--view", trace.view,
+                   "Primary rays from a camera framing the scene's bounds, or from the "
+                   "scene file's own camera (.aff/.nff with a viewpoint)")
+      ->check(CLI::IsMember({"bounds", "scene"}))
+      ->capture_default_str();
   std::string sizeText = "1024x768";
   traceCmd->add_option("--size", sizeText, "Image size WxH")
       ->check(imageSizeValidator())

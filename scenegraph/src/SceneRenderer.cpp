@@ -120,18 +120,21 @@ void SceneRenderer::update() {
   }
 }
 
+CameraParams cameraParamsOf(const WorldCamera& c, std::uint32_t width, std::uint32_t height) {
+  CameraParams p;
+  p.eye = c.position;
+  p.viewDirection = c.direction;
+  p.up = c.up;
+  p.fovYDegrees = c.fov * 57.29577951308232f;
+  p.hither = c.hither;
+  p.width = width;
+  p.height = height;
+  return p;
+}
+
 Camera SceneRenderer::camera(std::uint32_t width, std::uint32_t height) const {
-  if (const std::optional<WorldCamera> c = graph_.camera()) {
-    CameraParams p;
-    p.eye = c->position;
-    p.viewDirection = c->direction;
-    p.up = c->up;
-    p.fovYDegrees = c->fov * 57.29577951308232f;
-    p.hither = c->hither;
-    p.width = width;
-    p.height = height;
-    return Camera(p);
-  }
+  if (const std::optional<WorldCamera> c = graph_.camera())
+    return Camera(cameraParamsOf(*c, width, height));
   Box3f b = graph_.backendScene().bounds();
   if (b.empty()) b = Box3f({-1, -1, -1}, {1, 1, 1});
   const Vec3f centre = b.center();

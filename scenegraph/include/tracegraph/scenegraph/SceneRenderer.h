@@ -26,6 +26,9 @@ struct SceneLook {
   bool headlight = true;
 };
 
+/// The renderer's camera parameters for the graph camera `c` and a width x height image.
+CameraParams cameraParamsOf(const WorldCamera& c, std::uint32_t width, std::uint32_t height);
+
 /// Keeps a RenderScene in step with a synced SceneGraph and renders frames of it.
 ///
 /// Per frame (after SceneGraph::sync), update() rebuilds the light list, the material table
