@@ -15,6 +15,7 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 #include "MachineInfo.h"
 #include "ReportFormat.h"
@@ -31,7 +32,8 @@ struct Plan {
   int buildReps, traceReps;
   std::vector<std::size_t> instances, triangles;
   std::vector<std::string> buildScenes;
-  std::vector<std::pair<std::string, std::string>> traces;  ///< (scene, rays)
+  /// Trace cases: scene, rays ("primary"/"shadow"), view ("bounds"/"scene").
+  std::vector<std::tuple<std::string, std::string, std::string>> traces;
   ImageSize traceSize, frameSize;
   std::vector<std::optional<std::string>> frameScenes;
   int frames;
@@ -56,7 +58,8 @@ Plan makePlan(bool quick, const std::string& data) {
     p.instances = {64, 661, 4096};
     p.triangles = {64, 1024, 16384};
     p.buildScenes = {"builtin:sphereflake:2"};
-    p.traces = {{"builtin:sphereflake:2", "primary"}, {"builtin:sphereflake:2", "shadow"}};
+    p.traces = {{"builtin:sphereflake:2", "primary", "bounds"},
+                {"builtin:sphereflake:2", "shadow", "bounds"}};
     p.traceSize = {128, 96};
     p.frameSize = {64, 48};
     p.frameScenes = {std::nullopt};
@@ -73,7 +76,7 @@ Plan makePlan(bool quick, const std::string& data) {
     p.peerJudged = 256;
     if (have(museum)) {
       p.buildScenes.push_back(museum);
-      p.traces.push_back({museum, "primary"});
+      p.traces.push_back({museum, "primary", "bounds"});
       p.loadScenes = {museum};
     }
 #ifdef TG_BENCH_SANITIZED
@@ -93,7 +96,8 @@ Plan makePlan(bool quick, const std::string& data) {
   p.instances = {64, 161, 661, 2048, 8192, 32768, 100000};
   p.triangles = {64, 256, 1024, 4096, 16384, 65536};
   p.buildScenes = {"builtin:sphereflake"};
-  p.traces = {{"builtin:sphereflake", "primary"}, {"builtin:sphereflake", "shadow"}};
+  p.traces = {{"builtin:sphereflake", "primary", "bounds"},
+              {"builtin:sphereflake", "shadow", "bounds"}};
   p.traceSize = {640, 480};
   p.frameSize = {640, 480};
   p.frameScenes = {std::nullopt};
@@ -102,10 +106,18 @@ Plan makePlan(bool quick, const std::string& data) {
   for (const std::string& s : {kitchen, robots, museum}) {
     if (!have(s)) continue;
     p.buildScenes.push_back(s);
-    p.traces.push_back({s, "primary"});
+    p.traces.push_back({s, "primary", "bounds"});
     p.loadScenes.push_back(s);
   }
-  if (have(kitchen)) p.traces.push_back({kitchen, "shadow"}), p.frameScenes.push_back(kitchen);
+  if (have(kitchen)) p.traces.push_back({kitchen, "shadow", "bounds"});
+  // The view a frame of the file traces, from inside the scene: the camera framing the bounds
+  // sees the scene from outside, where most rays stop early or miss.
+  for (const std::string& s : {kitchen, robots})
+    if (have(s)) p.traces.push_back({s, "primary", "scene"});
+  if (have(kitchen)) {
+    p.traces.push_back({kitchen, "shadow", "scene"});
+    p.frameScenes.push_back(kitchen);
+  }
   if (have(robots)) p.frameScenes.push_back(robots), p.syncScene = robots;
   const std::string staticScene = have(kitchen) ? kitchen : "builtin:sphereflake";
   p.staticScenes = {staticScene};
@@ -372,8 +384,10 @@ int runReport(const CommonOptions& common, const ReportOptions& options) {
             {},
             {}};
     suiteCommon.reps = plan.traceReps;
-    for (const auto& [scene, rays] : plan.traces)
-      run(t, [&] { return runTraceSuite(suiteCommon, TraceOptions{scene, rays, plan.traceSize}); });
+    for (const auto& [scene, rays, view] : plan.traces)
+      run(t, [&] {
+        return runTraceSuite(suiteCommon, TraceOptions{scene, rays, plan.traceSize, view});
+      });
     topics.push_back(std::move(t));
   }
   {
