@@ -36,28 +36,9 @@ void Camera::lookAt(const Vec3f& from, const Vec3f& at, const Vec3f& up) {
   Vec3d right = cross(u, back);
   if (length(right) == 0.0) return;
   right = normalize(right);
-  const Vec3d trueUp = cross(back, right);
-  // Quaternion of the rotation matrix with columns right, trueUp, back (Shepperd's method).
-  const double m00 = right.x, m01 = trueUp.x, m02 = back.x;
-  const double m10 = right.y, m11 = trueUp.y, m12 = back.y;
-  const double m20 = right.z, m21 = trueUp.z, m22 = back.z;
-  Quaternion q;
-  const double trace = m00 + m11 + m22;
-  if (trace > 0.0) {
-    const double s = 2.0 * std::sqrt(trace + 1.0);
-    q = {0.25 * s, (m21 - m12) / s, (m02 - m20) / s, (m10 - m01) / s};
-  } else if (m00 > m11 && m00 > m22) {
-    const double s = 2.0 * std::sqrt(1.0 + m00 - m11 - m22);
-    q = {(m21 - m12) / s, 0.25 * s, (m01 + m10) / s, (m02 + m20) / s};
-  } else if (m11 > m22) {
-    const double s = 2.0 * std::sqrt(1.0 + m11 - m00 - m22);
-    q = {(m02 - m20) / s, (m01 + m10) / s, 0.25 * s, (m12 + m21) / s};
-  } else {
-    const double s = 2.0 * std::sqrt(1.0 + m22 - m00 - m11);
-    q = {(m10 - m01) / s, (m02 + m20) / s, (m12 + m21) / s, 0.25 * s};
-  }
+  // The rotation whose matrix has the columns right, up and back.
   position.setValue(from);
-  orientation.setValue(toRotation(q));
+  orientation.setValue(toRotation(quaternionFromBasis(right, cross(back, right), back)));
 }
 
 }  // namespace tg::nodes

@@ -61,6 +61,28 @@ Quaternion slerp(const Quaternion& a, const Quaternion& bIn, double t) {
       {wa * a.w + wb * b.w, wa * a.x + wb * b.x, wa * a.y + wb * b.y, wa * a.z + wb * b.z});
 }
 
+Quaternion quaternionFromBasis(const Vec3d& x, const Vec3d& y, const Vec3d& z) {
+  // Shepperd's method: divide by the largest of the four candidate terms for accuracy.
+  const double m00 = x.x, m01 = y.x, m02 = z.x;
+  const double m10 = x.y, m11 = y.y, m12 = z.y;
+  const double m20 = x.z, m21 = y.z, m22 = z.z;
+  const double trace = m00 + m11 + m22;
+  if (trace > 0.0) {
+    const double s = 2.0 * std::sqrt(trace + 1.0);
+    return {0.25 * s, (m21 - m12) / s, (m02 - m20) / s, (m10 - m01) / s};
+  }
+  if (m00 > m11 && m00 > m22) {
+    const double s = 2.0 * std::sqrt(1.0 + m00 - m11 - m22);
+    return {(m21 - m12) / s, 0.25 * s, (m01 + m10) / s, (m02 + m20) / s};
+  }
+  if (m11 > m22) {
+    const double s = 2.0 * std::sqrt(1.0 + m11 - m00 - m22);
+    return {(m02 - m20) / s, (m01 + m10) / s, 0.25 * s, (m12 + m21) / s};
+  }
+  const double s = 2.0 * std::sqrt(1.0 + m22 - m00 - m11);
+  return {(m10 - m01) / s, (m02 + m20) / s, (m12 + m21) / s, 0.25 * s};
+}
+
 Affine3d toMatrix(const Quaternion& in) {
   const Quaternion q = normalized(in);
   const double xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;

@@ -99,3 +99,26 @@ BOOST_AUTO_TEST_CASE(rotation_algebra) {
   BOOST_TEST(near(x, {-1, 0, 0}));
   BOOST_TEST(rotationMatrix(Rotation{{0, 0, 0}, 1.0f}) == Affine3d::identity());
 }
+
+BOOST_AUTO_TEST_CASE(quaternion_from_basis_inverts_the_rotation_matrix) {
+  // A small angle (trace > 0) and half turns about x, y and z reach each of Shepperd's four
+  // cases; the basis is the matrix's columns, the images of the unit axes.
+  const Rotation cases[] = {{{1, 2, 3}, 0.3f},
+                            {{1, 0, 0}, float(kPi)},
+                            {{0, 1, 0}, float(kPi)},
+                            {{0, 0, 1}, float(kPi)},
+                            {{1, -1, 0.5f}, 2.5f}};
+  for (const Rotation& r : cases) {
+    const Quaternion expected = toQuaternion(r);
+    const Quaternion q = quaternionFromBasis(
+        rotate(expected, {1, 0, 0}), rotate(expected, {0, 1, 0}), rotate(expected, {0, 0, 1}));
+    // q and -q are the same rotation.
+    const double sign =
+        q.w * expected.w + q.x * expected.x + q.y * expected.y + q.z * expected.z < 0.0 ? -1.0
+                                                                                        : 1.0;
+    BOOST_TEST(sign * q.w == expected.w, boost::test_tools::tolerance(1e-9));
+    BOOST_TEST(sign * q.x == expected.x, boost::test_tools::tolerance(1e-9));
+    BOOST_TEST(sign * q.y == expected.y, boost::test_tools::tolerance(1e-9));
+    BOOST_TEST(sign * q.z == expected.z, boost::test_tools::tolerance(1e-9));
+  }
+}

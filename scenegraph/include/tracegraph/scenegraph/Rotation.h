@@ -39,6 +39,9 @@ Quaternion slerp(const Quaternion& a, const Quaternion& b, double t);
 Affine3d toMatrix(const Quaternion& q);
 /// The rotation as an affine matrix, composed in double.
 Affine3d rotationMatrix(const Rotation& r);
+/// The quaternion of the rotation whose matrix has the columns x, y, z (an orthonormal,
+/// right-handed basis: the images of the unit axes).
+Quaternion quaternionFromBasis(const Vec3d& x, const Vec3d& y, const Vec3d& z);
 /// Rotates a vector.
 Vec3d rotate(const Quaternion& q, const Vec3d& v);
 
