@@ -6,8 +6,6 @@
 //             [--video OUT.mp4] [--quiet]
 //
 // Exit codes: 0 success, 1 bad input (the message names the file), 2 bad usage.
-#include <tbb/global_control.h>
-#include <tbb/task_arena.h>
 
 #include <chrono>
 #include <fstream>
@@ -18,6 +16,7 @@
 #include "FrameOutput.h"
 #include "ProgressBar.h"
 #include "RenderOptions.h"
+#include "ToolThreads.h"
 #include "VideoPipe.h"
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/loaders/SceneSource.h"
@@ -138,11 +137,5 @@ int main(int argc, char** argv) {
   const auto parsed = parseRenderOptions(argc, argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const RenderOptions& o = std::get<RenderOptions>(parsed);
-  const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
-                            static_cast<std::size_t>(threads));
-  tbb::task_arena arena(threads);
-  int code = kSuccess;
-  arena.execute([&] { code = run(o); });
-  return code;
+  return tools::runWithThreads(o.threads, [&] { return run(o); });
 }

@@ -12,8 +12,6 @@
 //
 // Exit codes: 0 success, 1 bad input (the message names the file) or no window, 2 bad usage.
 #include <GLFW/glfw3.h>
-#include <tbb/global_control.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -24,6 +22,7 @@
 
 #include "GlDisplay.h"
 #include "OrbitCamera.h"
+#include "ToolThreads.h"
 #include "ViewOptions.h"
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/backend/render/ImageIO.h"
@@ -386,12 +385,6 @@ int main(int argc, char** argv) {
   const auto parsed = parseViewOptions(argc, argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const ViewOptions& o = std::get<ViewOptions>(parsed);
-  const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
-                            static_cast<std::size_t>(threads));
-  tbb::task_arena arena(threads);
-  int code = kSuccess;
-  // The arena runs the functor on this (the main) thread, as GLFW requires.
-  arena.execute([&] { code = run(o); });
-  return code;
+  // The arena runs `run` on this (the main) thread, as GLFW requires.
+  return tools::runWithThreads(o.threads, [&] { return run(o); });
 }
