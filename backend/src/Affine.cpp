@@ -8,11 +8,15 @@ namespace tg {
 
 template <typename T>
 Affine3<T> Affine3<T>::rotation(const Vec3<T>& axis, T degrees) {
+  return rotationRadians(axis, degrees * std::numbers::pi_v<T> / T(180));
+}
+
+template <typename T>
+Affine3<T> Affine3<T>::rotationRadians(const Vec3<T>& axis, T radians) {
   const T len = length(axis);
   if (!(len > T(0))) return identity();
   const Vec3<T> a = axis / len;
-  const T rad = degrees * std::numbers::pi_v<T> / T(180);
-  const T c = std::cos(rad), s = std::sin(rad), k = T(1) - c;
+  const T c = std::cos(radians), s = std::sin(radians), k = T(1) - c;
   Affine3 r;
   r.m[0][0] = c + a.x * a.x * k;
   r.m[0][1] = a.x * a.y * k - a.z * s;

@@ -113,21 +113,7 @@ Quatd slerpNoFlip(const Quatd& a, const Quatd& b, double u) {
 }
 
 Affine3d rotationMatrix(const Vec3d& axis, double radians) {
-  const double len = length(axis);
-  if (!(len > 0.0)) return Affine3d::identity();
-  const Vec3d a = axis / len;
-  const double c = std::cos(radians), s = std::sin(radians), k = 1.0 - c;
-  Affine3d r;
-  r.m[0][0] = c + a.x * a.x * k;
-  r.m[0][1] = a.x * a.y * k - a.z * s;
-  r.m[0][2] = a.x * a.z * k + a.y * s;
-  r.m[1][0] = a.y * a.x * k + a.z * s;
-  r.m[1][1] = c + a.y * a.y * k;
-  r.m[1][2] = a.y * a.z * k - a.x * s;
-  r.m[2][0] = a.z * a.x * k - a.y * s;
-  r.m[2][1] = a.z * a.y * k + a.x * s;
-  r.m[2][2] = c + a.z * a.z * k;
-  return r;
+  return Affine3d::rotationRadians(axis, radians);
 }
 
 KbVectorSpline::KbVectorSpline(std::vector<Key> keys) : keys_(std::move(keys)) {

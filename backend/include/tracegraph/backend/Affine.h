@@ -44,6 +44,9 @@ struct Affine3 {
   }
   /// Right-handed rotation by `degrees` about `axis` (normalised here; a zero axis gives identity).
   static Affine3 rotation(const Vec3<T>& axis, T degrees);
+  /// Right-handed rotation by `radians` about `axis` (normalised here; a zero axis gives
+  /// identity); rotation(axis, d) is rotationRadians(axis, d * pi / 180).
+  static Affine3 rotationRadians(const Vec3<T>& axis, T radians);
   /// Builds from a row-major 3x4 array.
   static constexpr Affine3 fromRows(const T (&rows)[12]) {
     Affine3 a;
