@@ -97,6 +97,9 @@ struct PeerSceneOptions {
   std::string scene;          ///< as for the build and trace suites
   ImageSize size{640, 480};   ///< primary-ray image (not used by `memory`)
   std::size_t judged = 1024;  ///< rays judged by the reference, and pixels of its FLIP grid
+  /// "bounds": a camera framing the scene's bounds; "scene": the file's own camera (see
+  /// TraceOptions::view). `memory` traces no rays and ignores it.
+  std::string view = "bounds";
 };
 
 /// `static`: the scene flattened into one static mesh, built from scratch by our static

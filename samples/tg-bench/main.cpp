@@ -57,6 +57,11 @@ void addPeerSceneOptions(CLI::App& sub, PeerSceneOptions& options, std::string& 
                  "Rays judged by the brute-force reference (and pixels of its FLIP image)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000}))
       ->capture_default_str();
+  sub.add_option("--view", options.view,
+                 "Primary rays from a camera framing the scene's bounds, or from the scene "
+                 "file's own camera (.aff/.nff with a viewpoint)")
+      ->check(CLI::IsMember({"bounds", "scene"}))
+      ->capture_default_str();
 }
 
 }  // namespace
