@@ -232,7 +232,8 @@ bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::
           int next = -1;
           for (int s = 3; s >= 0; --s) {
             if (!(mask & (1u << s))) continue;
-            if (next >= 0) stack[stackSize++] = Entry{node.child[next], node.count[next], entry[next]};
+            if (next >= 0)
+              stack[stackSize++] = Entry{node.child[next], node.count[next], entry[next]};
             next = s;
           }
           current = Entry{node.child[next], node.count[next], entry[next]};

@@ -83,11 +83,12 @@ void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
 
 bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const {
   float tfar = std::min(ray.tfar, hit.t);
+  InstanceEntry enter(ray);
   return traverseBvh4<false>(bvh_.nodes, ray.origin, ray.direction, ray.tnear, tfar, ctx.nodeVisits,
                              [&](std::uint32_t first, std::uint32_t count) {
                                bool found = false;
                                for (std::uint32_t k = first; k < first + count; ++k) {
-                                 if (intersectInstance(instances_[refs_[k]], ray, hit, ctx)) {
+                                 if (enter.intersect(instances_[refs_[k]], hit, ctx)) {
                                    tfar = std::min(tfar, hit.t);
                                    found = true;
                                  }
@@ -97,10 +98,11 @@ bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) con
 }
 
 bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
+  InstanceEntry enter(ray);
   return traverseBvh4<true>(bvh_.nodes, ray.origin, ray.direction, ray.tnear, ray.tfar,
                             ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
                               for (std::uint32_t k = first; k < first + count; ++k)
-                                if (occludedInstance(instances_[refs_[k]], ray, ctx)) return true;
+                                if (enter.occluded(instances_[refs_[k]], ctx)) return true;
                               return false;
                             });
 }
@@ -262,12 +264,13 @@ struct TopLevelPacketWalk {
     const Ray& ray = w.rays[lane];
     Hit& hit = w.hits[lane];
     float tfar = boxRays.tfar[lane];
+    InstanceEntry enter(ray);
     traverseBvh4From<false>(w.top->bvh_.nodes, child, 0, ray.origin, ray.direction, ray.tnear, tfar,
                             w.ctx->nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
                               bool found = false;
                               for (std::uint32_t k = first; k < first + count; ++k) {
                                 const InstanceRecord& inst = w.top->instances_[w.top->refs_[k]];
-                                if (intersectInstance(inst, ray, hit, *w.ctx)) {
+                                if (enter.intersect(inst, hit, *w.ctx)) {
                                   tfar = std::min(tfar, hit.t);
                                   found = true;
                                 }
@@ -281,13 +284,13 @@ struct TopLevelPacketWalk {
   static unsigned occludedSingle(void* user, std::uint32_t child, unsigned lane, PacketBoxRays&) {
     auto& w = *static_cast<TopLevelPacketWalk*>(user);
     const Ray& ray = w.rays[lane];
+    InstanceEntry enter(ray);
     return traverseBvh4From<true>(
                w.top->bvh_.nodes, child, 0, ray.origin, ray.direction, ray.tnear, ray.tfar,
                w.ctx->nodeVisits,
                [&](std::uint32_t first, std::uint32_t count) {
                  for (std::uint32_t k = first; k < first + count; ++k)
-                   if (occludedInstance(w.top->instances_[w.top->refs_[k]], ray, *w.ctx))
-                     return true;
+                   if (enter.occluded(w.top->instances_[w.top->refs_[k]], *w.ctx)) return true;
                  return false;
                })
                ? 1u

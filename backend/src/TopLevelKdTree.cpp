@@ -335,6 +335,7 @@ bool TopLevelKdTree::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) 
   ctx.instanceMailbox.clear();
   float tfar = std::min(ray.tfar, hit.t);
   const Vec3f inverse{1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z};
+  InstanceEntry enter(ray);
   return detail::traverseKdTree<false>(nodes_, bounds_, ray.origin, ray.direction, inverse,
                                        ray.tnear, tfar, ctx.nodeVisits,
                                        [&](std::uint32_t first, std::uint32_t count) {
@@ -342,7 +343,7 @@ bool TopLevelKdTree::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) 
                                          for (std::uint32_t k = 0; k < count; ++k) {
                                            const std::uint32_t i = refs_[first + k];
                                            if (ctx.instanceMailbox.testAndSet(i)) continue;
-                                           if (intersectInstance(instances_[i], ray, hit, ctx)) {
+                                           if (enter.intersect(instances_[i], hit, ctx)) {
                                              tfar = std::min(tfar, hit.t);
                                              found = true;
                                            }
@@ -355,14 +356,14 @@ bool TopLevelKdTree::occluded(const Ray& ray, TraversalContext& ctx) const {
   if (nodes_.empty()) return false;
   ctx.instanceMailbox.clear();
   const Vec3f inverse{1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z};
+  InstanceEntry enter(ray);
   return detail::traverseKdTree<true>(nodes_, bounds_, ray.origin, ray.direction, inverse,
                                       ray.tnear, ray.tfar, ctx.nodeVisits,
                                       [&](std::uint32_t first, std::uint32_t count) {
                                         for (std::uint32_t k = 0; k < count; ++k) {
                                           const std::uint32_t i = refs_[first + k];
                                           if (ctx.instanceMailbox.testAndSet(i)) continue;
-                                          if (occludedInstance(instances_[i], ray, ctx))
-                                            return true;
+                                          if (enter.occluded(instances_[i], ctx)) return true;
                                         }
                                         return false;
                                       });

@@ -149,7 +149,8 @@ class ObjectAccel {
   virtual Box3f bounds() const = 0;
   /// Closest hit: when a triangle is hit at t in [tnear, ray.tfar] and precedes `hit`
   /// (see hitPrecedes), writes t, u, v, primId, instanceId and objectId into `hit` and lowers
-  /// ray.tfar. Returns true when `hit` changed.
+  /// ray.tfar. Changes nothing else of `ray` (callers reuse it for the next object). Returns
+  /// true when `hit` changed.
   virtual bool intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const = 0;
   /// Any hit in [tnear, tfar].
   virtual bool occluded(const ObjectRay& ray, TraversalContext& ctx) const = 0;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string_view>
 
@@ -109,5 +110,50 @@ inline bool intersectInstance(const InstanceRecord& inst, const Ray& ray, Hit& h
 inline bool occludedInstance(const InstanceRecord& inst, const Ray& ray, TraversalContext& ctx) {
   return inst.accel->occluded(objectRayFor(inst, ray, ray.tfar), ctx);
 }
+
+/// The instances one world ray enters during one top-level walk. Every identity instance (all
+/// static geometry is one, split into chunks) sees the world ray itself, so its object ray,
+/// with the shear constants and reciprocals that cost divisions, is made once, at the first
+/// identity instance entered, and only its tfar and ids change from one to the next. Answers
+/// equal intersectInstance's and occludedInstance's.
+class InstanceEntry {
+ public:
+  /// For `ray`, which must outlive the entry.
+  explicit InstanceEntry(const Ray& ray) : ray_(ray) {}
+
+  /// intersectInstance(inst, ray, hit, ctx).
+  bool intersect(const InstanceRecord& inst, Hit& hit, TraversalContext& ctx) {
+    const float tfar = hit.t < ray_.tfar ? hit.t : ray_.tfar;
+    if (!inst.identity) {
+      ObjectRay objectRay = objectRayFor(inst, ray_, tfar);
+      return inst.accel->intersect(objectRay, hit, ctx);
+    }
+    return inst.accel->intersect(identityRay(inst, tfar), hit, ctx);
+  }
+  /// occludedInstance(inst, ray, ctx).
+  bool occluded(const InstanceRecord& inst, TraversalContext& ctx) {
+    if (!inst.identity) return occludedInstance(inst, ray_, ctx);
+    return inst.accel->occluded(identityRay(inst, ray_.tfar), ctx);
+  }
+
+ private:
+  /// objectRayFor(inst, ray, tfar) for an identity instance: accelerators change only tfar of
+  /// the rays they are given (ObjectAccel::intersect), so the rest is still the world ray's.
+  ObjectRay& identityRay(const InstanceRecord& inst, float tfar) {
+    if (!identity_) {
+      identity_.emplace(ray_.origin, ray_.direction, ray_.tnear, tfar, inst.instanceId,
+                        inst.objectId);
+    } else {
+      identity_->tfar = tfar;
+      identity_->instanceId = inst.instanceId;
+      identity_->objectId = inst.objectId;
+    }
+    return *identity_;
+  }
+
+  const Ray& ray_;
+  /// Made at the first identity instance (std::optional: rays that enter none pay nothing).
+  std::optional<ObjectRay> identity_;
+};
 
 }  // namespace tg
