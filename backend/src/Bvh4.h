@@ -164,12 +164,23 @@ inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, floa
     tmin = _mm_max_ps(n, tmin);
     tmax = _mm_min_ps(f, tmax);
   }
-  // Widen both ends by their own magnitude. An infinite end stays infinite on the side that
-  // keeps the box, and turns into NaN (inf - inf) only on the side that already rejects it.
-  const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
-  const __m128 slack = _mm_set1_ps(kBvhIntervalSlack);
-  tmin = _mm_sub_ps(tmin, _mm_mul_ps(_mm_and_ps(tmin, absMask), slack));
-  tmax = _mm_add_ps(tmax, _mm_mul_ps(_mm_and_ps(tmax, absMask), slack));
+  if (ray.tnear >= 0.0f) {
+    // Then tmin >= tnear >= 0 (a NaN slab distance keeps tmin), and widening an end by its own
+    // magnitude is one product: t - t s and t (1 - s) round the same exact value (t s is exact,
+    // s being a power of two). A negative tmax rejects the box either way. Only where both ends
+    // are +inf (a ray parallel to an axis outside the box's slab while every other slab
+    // distance overflows) is a box kept that the general form rejects: a wasted visit, never a
+    // lost hit. Two to three percent of the BART walks from the files' cameras.
+    tmin = _mm_mul_ps(tmin, _mm_set1_ps(1.0f - kBvhIntervalSlack));
+    tmax = _mm_mul_ps(tmax, _mm_set1_ps(1.0f + kBvhIntervalSlack));
+  } else {
+    // Widen both ends by their own magnitude. An infinite end stays infinite on the side that
+    // keeps the box, and turns into NaN (inf - inf) only on the side that already rejects it.
+    const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
+    const __m128 slack = _mm_set1_ps(kBvhIntervalSlack);
+    tmin = _mm_sub_ps(tmin, _mm_mul_ps(_mm_and_ps(tmin, absMask), slack));
+    tmax = _mm_add_ps(tmax, _mm_mul_ps(_mm_and_ps(tmax, absMask), slack));
+  }
   _mm_storeu_ps(entry, tmin);
   return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(tmin, tmax)));
 #else
