@@ -13,10 +13,16 @@ namespace tg::detail {
 namespace {
 
 struct Avx2NodeTest : Avx8LaneOps {
-  /// Eight-lane loads cost as much as keeping them: no per-walk state.
-  explicit Avx2NodeTest(const PacketBoxRays&) {}
-  static void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
-                   float entry[4][kPacketLanes]) {
+  /// Eight-lane loads of the rays cost as much as keeping them; only the sign of tnear is
+  /// decided once per walk.
+  explicit Avx2NodeTest(const PacketBoxRays& rays)
+      : nonNegativeTnear(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_load_ps(rays.tnear),
+                                                          _mm256_setzero_ps(), _CMP_GE_OQ)) ==
+                         0xFF) {}
+  /// Every lane's tnear is >= 0: the interval ends widen by one product (see Bvh4.h).
+  bool nonNegativeTnear;
+  void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
+            float entry[4][kPacketLanes]) const {
     const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
     const __m256 slack = _mm256_set1_ps(kBvhIntervalSlack);
     const __m256 tnear = _mm256_load_ps(rays.tnear), tfar = _mm256_load_ps(rays.tfar);
@@ -37,8 +43,13 @@ struct Avx2NodeTest : Avx8LaneOps {
         tmin = _mm256_max_ps(n, tmin);
         tmax = _mm256_min_ps(f, tmax);
       }
-      tmin = _mm256_sub_ps(tmin, _mm256_mul_ps(_mm256_and_ps(tmin, absMask), slack));
-      tmax = _mm256_add_ps(tmax, _mm256_mul_ps(_mm256_and_ps(tmax, absMask), slack));
+      if (nonNegativeTnear) {
+        tmin = _mm256_mul_ps(tmin, _mm256_set1_ps(1.0f - kBvhIntervalSlack));
+        tmax = _mm256_mul_ps(tmax, _mm256_set1_ps(1.0f + kBvhIntervalSlack));
+      } else {
+        tmin = _mm256_sub_ps(tmin, _mm256_mul_ps(_mm256_and_ps(tmin, absMask), slack));
+        tmax = _mm256_add_ps(tmax, _mm256_mul_ps(_mm256_and_ps(tmax, absMask), slack));
+      }
       _mm256_store_ps(entry[s], tmin);
       hit[s] =
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OS))) & lanes;

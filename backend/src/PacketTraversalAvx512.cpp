@@ -34,7 +34,9 @@ struct Avx512NodeTest : Avx8LaneOps {
   /// The rays' fixed values with their lanes duplicated into both halves, once per walk: the
   /// permutes would otherwise be a quarter of every node test. tfar changes during the walk and
   /// is read per node.
-  explicit Avx512NodeTest(const PacketBoxRays& rays) : tnear(duplicateLanes(rays.tnear)) {
+  explicit Avx512NodeTest(const PacketBoxRays& rays)
+      : tnear(duplicateLanes(rays.tnear)),
+        nonNegativeTnear(_mm512_cmp_ps_mask(tnear, _mm512_setzero_ps(), _CMP_GE_OQ) == 0xFFFFu) {
     for (int a = 0; a < 3; ++a) {
       origin[a] = duplicateLanes(rays.origin[a]);
       reciprocal[a] = duplicateLanes(rays.reciprocal[a]);
@@ -42,6 +44,8 @@ struct Avx512NodeTest : Avx8LaneOps {
   }
 
   __m512 tnear;
+  /// Every lane's tnear is >= 0: the interval ends widen by one product (see Bvh4.h).
+  bool nonNegativeTnear;
   __m512 origin[3], reciprocal[3];
 
   void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
@@ -59,12 +63,17 @@ struct Avx512NodeTest : Avx8LaneOps {
         tmin = _mm512_max_ps(n, tmin);
         tmax = _mm512_min_ps(f, tmax);
       }
-      const __m512 absMin =
-          _mm512_castsi512_ps(_mm512_and_epi32(_mm512_castps_si512(tmin), absMask));
-      const __m512 absMax =
-          _mm512_castsi512_ps(_mm512_and_epi32(_mm512_castps_si512(tmax), absMask));
-      tmin = _mm512_sub_ps(tmin, _mm512_mul_ps(absMin, slack));
-      tmax = _mm512_add_ps(tmax, _mm512_mul_ps(absMax, slack));
+      if (nonNegativeTnear) {
+        tmin = _mm512_mul_ps(tmin, _mm512_set1_ps(1.0f - kBvhIntervalSlack));
+        tmax = _mm512_mul_ps(tmax, _mm512_set1_ps(1.0f + kBvhIntervalSlack));
+      } else {
+        const __m512 absMin =
+            _mm512_castsi512_ps(_mm512_and_epi32(_mm512_castps_si512(tmin), absMask));
+        const __m512 absMax =
+            _mm512_castsi512_ps(_mm512_and_epi32(_mm512_castps_si512(tmax), absMask));
+        tmin = _mm512_sub_ps(tmin, _mm512_mul_ps(absMin, slack));
+        tmax = _mm512_add_ps(tmax, _mm512_mul_ps(absMax, slack));
+      }
       // entry[s] and entry[s + 1] are adjacent: one store fills both.
       _mm512_store_ps(entry[s], tmin);
       const unsigned mask = _mm512_cmp_ps_mask(tmin, tmax, _CMP_LE_OS);
