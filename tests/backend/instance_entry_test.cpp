@@ -4,7 +4,6 @@
 #define BOOST_TEST_MODULE instance_entry
 #include <boost/test/unit_test.hpp>
 
-#include <cstring>
 #include <memory>
 #include <random>
 #include <vector>
@@ -16,18 +15,6 @@ using namespace tg;
 using namespace tg::test;
 
 namespace {
-
-bool sameBits(float a, float b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-
-bool sameHit(const Hit& a, const Hit& b) {
-  return sameBits(a.t, b.t) && sameBits(a.u, b.u) && sameBits(a.v, b.v) && a.primId == b.primId &&
-         a.instanceId == b.instanceId && a.objectId == b.objectId &&
-         sameBits(a.geometricNormal.x, b.geometricNormal.x) &&
-         sameBits(a.geometricNormal.y, b.geometricNormal.y) &&
-         sameBits(a.geometricNormal.z, b.geometricNormal.z);
-}
 
 struct Objects {
   std::vector<std::unique_ptr<ObjectAccel>> accels;
@@ -83,7 +70,7 @@ BOOST_AUTO_TEST_CASE(entries_equal_fresh_mappings_hit_by_hit) {
         const bool a = enter.intersect(inst, viaEntry, ctx);
         const bool b = intersectInstance(inst, ray, viaFresh, ctx);
         BOOST_TEST_REQUIRE(a == b, "ray " << r << " instance " << inst.instanceId);
-        BOOST_TEST_REQUIRE(sameHit(viaEntry, viaFresh),
+        BOOST_TEST_REQUIRE(sameHitBits(viaEntry, viaFresh),
                            "ray " << r << " instance " << inst.instanceId);
       }
       hits += viaEntry.valid() ? 1 : 0;

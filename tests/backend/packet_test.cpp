@@ -6,7 +6,6 @@
 #define BOOST_TEST_MODULE packet
 #include <boost/test/unit_test.hpp>
 
-#include <cstring>
 #include <limits>
 #include <memory>
 
@@ -45,18 +44,6 @@ struct IsaGuard {
   ~IsaGuard() { setSimdIsa(saved); }
 };
 
-bool sameBits(float a, float b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-
-bool sameHit(const Hit& a, const Hit& b) {
-  return sameBits(a.t, b.t) && sameBits(a.u, b.u) && sameBits(a.v, b.v) &&
-         a.instanceId == b.instanceId && a.objectId == b.objectId && a.primId == b.primId &&
-         sameBits(a.geometricNormal.x, b.geometricNormal.x) &&
-         sameBits(a.geometricNormal.y, b.geometricNormal.y) &&
-         sameBits(a.geometricNormal.z, b.geometricNormal.z);
-}
-
 /// Counts of one packets-against-single-rays comparison.
 struct Comparison {
   std::size_t rays = 0, hits = 0, occluded = 0, mismatches = 0;
@@ -79,7 +66,7 @@ Comparison compareWithSingleRays(const Scene& scene, const std::vector<Ray>& ray
     c.hits += got ? 1 : 0;
     c.occluded += occ ? 1 : 0;
     const bool same =
-        sameHit(hits[i], single) && hits[i].valid() == got && (blocked[i] != 0) == occ;
+        sameHitBits(hits[i], single) && hits[i].valid() == got && (blocked[i] != 0) == occ;
     if (!same && c.mismatches++ == 0)
       c.firstMismatch = "ray " + std::to_string(i) + " " + describe(rays[i]) + ": packet t " +
                         std::to_string(hits[i].t) + " prim " + std::to_string(hits[i].primId) +
@@ -243,10 +230,6 @@ BOOST_AUTO_TEST_CASE(flat_packets_equal_single_rays) {
 
 BOOST_AUTO_TEST_CASE(instanced_packets_equal_single_rays) {
   checkAllKernels(true, 77);
-}
-
-bool sameBits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
 /// Every field of two object rays, bit for bit (padding aside).

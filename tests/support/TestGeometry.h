@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <numbers>
 #include <random>
@@ -162,6 +163,24 @@ struct DiffResult {
   std::size_t rays = 0, hits = 0, ambiguous = 0, mismatches = 0;
   std::string firstMismatch;
 };
+
+/// True when `a` and `b` have the same bits (-0 and +0 differ, as do NaN payloads).
+inline bool sameBits(float a, float b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+/// sameBits for doubles.
+inline bool sameBits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+/// True when two hits agree bit for bit in every field.
+inline bool sameHitBits(const Hit& a, const Hit& b) {
+  return sameBits(a.t, b.t) && sameBits(a.u, b.u) && sameBits(a.v, b.v) &&
+         a.instanceId == b.instanceId && a.objectId == b.objectId && a.primId == b.primId &&
+         sameBits(a.geometricNormal.x, b.geometricNormal.x) &&
+         sameBits(a.geometricNormal.y, b.geometricNormal.y) &&
+         sameBits(a.geometricNormal.z, b.geometricNormal.z);
+}
 
 inline std::string describe(const Ray& r) {
   std::ostringstream s;

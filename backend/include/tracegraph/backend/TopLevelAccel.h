@@ -123,12 +123,9 @@ class InstanceEntry {
 
   /// intersectInstance(inst, ray, hit, ctx).
   bool intersect(const InstanceRecord& inst, Hit& hit, TraversalContext& ctx) {
-    const float tfar = hit.t < ray_.tfar ? hit.t : ray_.tfar;
-    if (!inst.identity) {
-      ObjectRay objectRay = objectRayFor(inst, ray_, tfar);
-      return inst.accel->intersect(objectRay, hit, ctx);
-    }
-    return inst.accel->intersect(identityRay(inst, tfar), hit, ctx);
+    if (!inst.identity) return intersectInstance(inst, ray_, hit, ctx);
+    return inst.accel->intersect(identityRay(inst, hit.t < ray_.tfar ? hit.t : ray_.tfar), hit,
+                                 ctx);
   }
   /// occludedInstance(inst, ray, ctx).
   bool occluded(const InstanceRecord& inst, TraversalContext& ctx) {
