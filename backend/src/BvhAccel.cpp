@@ -167,6 +167,11 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   result.nodes.swap(nodes_);  // reuse the node memory of the previous build
   buildBvh4(prims_, options, result);
   nodes_.swap(result.nodes);
+  // The builder reserves its worst case, one node per primitive; SAH trees with leaves of up to
+  // four triangles use about a quarter of it (the BART kitchen flattened: 26.5k nodes for 110k
+  // triangles). A static or rigid tree is built once and kept: it gives the rest back, for one
+  // copy of the nodes it uses (0.2 ms of the kitchen's 15 ms build).
+  if (nodes_.capacity() > nodes_.size() + nodes_.size() / 4) Bvh4NodeArray(nodes_).swap(nodes_);
 
   const std::size_t refs = prims_.size();
   triangles_.resize(refs);
