@@ -3,8 +3,13 @@
 // object, per engine and for Embree; the ratio of the two times is the two-level overhead.
 #include <tbb/task_arena.h>
 
+#include <functional>
+#include <list>
+#include <memory>
+
 #include "BenchTiming.h"
 #include "PrimaryScene.h"
+#include "ReferenceJudge.h"
 #include "SuiteCommon.h"
 #include "Suites.h"
 
@@ -32,18 +37,33 @@ BenchReport runOverheadSuite(const CommonOptions& common, const PeerSceneOptions
   };
   const Layout layouts[] = {{&primary.bench(), "instanced", false},
                             {&primary.flat().scene, "flattened", true}};
-  std::vector<RayOutcome> out;
+  // Every structure is built first, then all are timed in one interleaved group: the ratios
+  // this suite reports are between its rows.
+  std::vector<TimedRow> rows;
+  std::vector<std::unique_ptr<Scene>> scenes;
+  std::list<std::vector<RayOutcome>> outcomes;  // one per row, at addresses that stay put
+  const auto add = [&](const std::string& impl, const Layout& layout,
+                       std::function<void(std::vector<RayOutcome>&)> trace) {
+    std::vector<RayOutcome>& out = outcomes.emplace_back(primary.rays().size());
+    rows.push_back({caseName, impl + " " + layout.name,
+                    [&arena, &out, trace = std::move(trace)] {
+                      return timeMs([&] { arena.execute([&] { trace(out); }); });
+                    },
+                    [&primary, &out, flattened = layout.flattened](BenchRow& row) {
+                      setRays(row, out.size());
+                      primary.judge(row, out, flattened);
+                    }});
+  };
   for (const Engine engine : {Engine::Bvh, Engine::KdTree}) {
     const std::string impl = engine == Engine::Bvh ? "tracegraph-bvh" : "tracegraph-kd";
     for (const Layout& layout : layouts) {
-      progress("overhead: " + impl + " " + layout.name);
-      Scene scene(sceneOptionsFor(engine));
+      progress("overhead: building " + impl + " " + layout.name);
+      Scene& scene = *scenes.emplace_back(std::make_unique<Scene>(sceneOptionsFor(engine)));
       populateScene(*layout.scene, scene);
       arena.execute([&] { scene.commit(); });
-      BenchRow& row = addRow(report, caseName, impl + " " + layout.name,
-                             timeTrace(arena, reps, scene, primary.rays(), out));
-      setRays(row, out.size());
-      primary.judge(row, out, layout.flattened);
+      add(impl, layout, [&primary, &scene](std::vector<RayOutcome>& out) {
+        traceOutcomes(scene, primary.rays(), out);
+      });
     }
   }
 
@@ -51,16 +71,21 @@ BenchReport runOverheadSuite(const CommonOptions& common, const PeerSceneOptions
   // Static scenes at the quality Tracegraph's static objects get (SAH), as in the trace suite.
   EmbreeDevice device(common.threads);
   const std::string peer = embreeImplName(EmbreeQuality::High);
+  std::vector<std::unique_ptr<EmbreeBenchScene>> peers;
   for (const Layout& layout : layouts) {
-    progress("overhead: " + peer + " " + layout.name);
-    EmbreeBenchScene scene(device, *layout.scene, EmbreeQuality::High);
+    progress("overhead: building " + peer + " " + layout.name);
+    EmbreeBenchScene& scene = *peers.emplace_back(
+        std::make_unique<EmbreeBenchScene>(device, *layout.scene, EmbreeQuality::High));
     arena.execute([&] { scene.commit(); });
     device.check("building the scene");
-    BenchRow& row = addRow(report, caseName, peer + " " + layout.name,
-                           timeTrace(arena, reps, scene, primary.rays(), out));
-    setRays(row, out.size());
-    primary.judge(row, out, layout.flattened);
+    add(peer, layout, [&primary, &scene](std::vector<RayOutcome>& out) {
+      scene.intersect1(primary.rays(), out);
+    });
   }
+#endif
+  measureRows(report, reps, rows);
+
+#ifdef TG_HAVE_EMBREE
   // Ours against Embree in the same layout ("<impl> instanced" against "embree-high instanced").
   addTimeRatios(
       report,

@@ -5,10 +5,6 @@
 #include "SuiteCommon.h"
 #include "tracegraph/backend/Error.h"
 
-#ifdef TG_HAVE_EMBREE
-#include "EmbreePeer.h"
-#endif
-
 namespace tg::bench {
 
 PrimaryScene::PrimaryScene(const PeerSceneOptions& options, tbb::task_arena& arena)
@@ -34,23 +30,5 @@ void PrimaryScene::judge(BenchRow& row, std::vector<RayOutcome> outcomes, bool f
   if (flattened) unflatten(flat_, outcomes);
   judge_->judge(row, outcomes);
 }
-
-TimingSummary timeTrace(tbb::task_arena& arena, int reps, const Scene& scene,
-                        std::span<const Ray> rays, std::vector<RayOutcome>& out) {
-  out.assign(rays.size(), RayOutcome{});
-  return measureRepeated(reps, [&](int) {
-    return timeMs([&] { arena.execute([&] { traceOutcomes(scene, rays, out); }); });
-  });
-}
-
-#ifdef TG_HAVE_EMBREE
-TimingSummary timeTrace(tbb::task_arena& arena, int reps, const EmbreeBenchScene& scene,
-                        std::span<const Ray> rays, std::vector<RayOutcome>& out) {
-  out.assign(rays.size(), RayOutcome{});
-  return measureRepeated(reps, [&](int) {
-    return timeMs([&] { arena.execute([&] { scene.intersect1(rays, out); }); });
-  });
-}
-#endif
 
 }  // namespace tg::bench

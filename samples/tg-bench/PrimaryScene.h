@@ -1,7 +1,6 @@
 /// @file PrimaryScene.h
 /// What the scene suites against Embree (`static`, `overhead`, `scaling`) share: a scene, its
-/// flattened copy, the primary rays framing it, one judge for every trace of those rays, and
-/// the timed trace loops of Tracegraph and of the peer.
+/// flattened copy, the primary rays framing it and one judge for every trace of those rays.
 #pragma once
 
 #include <tbb/task_arena.h>
@@ -12,17 +11,12 @@
 #include <vector>
 
 #include "BenchReport.h"
-#include "BenchTiming.h"
 #include "FlattenedScene.h"
 #include "ImageJudge.h"
 #include "Suites.h"
 #include "tracegraph/backend/Scene.h"
 
 namespace tg::bench {
-
-#ifdef TG_HAVE_EMBREE
-class EmbreeBenchScene;
-#endif
 
 /// A scene loaded for primary-ray rows; everything is judged in the ids of the instanced scene.
 class PrimaryScene {
@@ -52,16 +46,5 @@ class PrimaryScene {
   std::string caseName_;
   std::unique_ptr<PrimaryImageJudge> judge_;
 };
-
-/// Times `reps` traces of `rays` through the committed `scene` in `arena` (one untimed warm-up);
-/// `out` holds the last trace's outcomes.
-TimingSummary timeTrace(tbb::task_arena& arena, int reps, const Scene& scene,
-                        std::span<const Ray> rays, std::vector<RayOutcome>& out);
-
-#ifdef TG_HAVE_EMBREE
-/// The same for the committed peer, one rtcIntersect1 per ray (as ours: single rays).
-TimingSummary timeTrace(tbb::task_arena& arena, int reps, const EmbreeBenchScene& scene,
-                        std::span<const Ray> rays, std::vector<RayOutcome>& out);
-#endif
 
 }  // namespace tg::bench

@@ -5,12 +5,14 @@
 #include <tbb/task_arena.h>
 
 #include <functional>
+#include <list>
 #include <map>
 #include <memory>
 #include <optional>
 
 #include "BenchTiming.h"
 #include "PrimaryScene.h"
+#include "ReferenceJudge.h"
 #include "SuiteCommon.h"
 #include "Suites.h"
 
@@ -34,7 +36,8 @@ BenchReport runScalingSuite(const CommonOptions& common, const PeerSceneOptions&
   // Every structure is built once, with all threads; only the traces run in smaller arenas.
   struct Traced {
     std::string impl;
-    std::function<TimingSummary(tbb::task_arena&, std::vector<RayOutcome>&)> trace;
+    /// One trace of the rays inside the arena.
+    std::function<void(tbb::task_arena&, std::vector<RayOutcome>&)> trace;
   };
   std::vector<Traced> traced;
   std::vector<std::unique_ptr<Scene>> scenes;
@@ -45,7 +48,7 @@ BenchReport runScalingSuite(const CommonOptions& common, const PeerSceneOptions&
     all.execute([&] { scene.commit(); });
     traced.push_back({engine == Engine::Bvh ? "tracegraph-bvh" : "tracegraph-kd",
                       [&, s = &scene](tbb::task_arena& arena, std::vector<RayOutcome>& out) {
-                        return timeTrace(arena, reps, *s, primary.rays(), out);
+                        arena.execute([&] { traceOutcomes(*s, primary.rays(), out); });
                       }});
   }
 #ifdef TG_HAVE_EMBREE
@@ -54,27 +57,38 @@ BenchReport runScalingSuite(const CommonOptions& common, const PeerSceneOptions&
   all.execute([&] { peer.commit(); });
   device.check("building the scene");
   traced.push_back({"embree-intersect1", [&](tbb::task_arena& arena, std::vector<RayOutcome>& out) {
-                      return timeTrace(arena, reps, peer, primary.rays(), out);
+                      arena.execute([&] { peer.intersect1(primary.rays(), out); });
                     }});
 #endif
 
-  std::map<std::string, double> oneThreadMs;
-  std::vector<RayOutcome> out;
+  // Every thread count and implementation in one interleaved group: the speedup is a ratio of
+  // two rows, which then see the same machine states.
+  std::list<tbb::task_arena> arenas;
+  std::list<std::vector<RayOutcome>> outcomes;
+  std::vector<TimedRow> rows;
   for (const int threads : threadCounts) {
-    tbb::task_arena arena(threads);
+    tbb::task_arena& arena = arenas.emplace_back(threads);
     const std::string caseName = "thread scaling: " + primary.caseName() + ", " +
                                  std::to_string(threads) + (threads == 1 ? " thread" : " threads");
     for (const Traced& t : traced) {
-      progress("scaling: " + t.impl + ", " + std::to_string(threads) + " threads");
-      BenchRow& row = addRow(report, caseName, t.impl, t.trace(arena, out));
-      setRays(row, out.size());
-      row.extra.push_back(intField("trace_threads", threads));
-      primary.judge(row, out, false);
-      if (threads == 1)
-        oneThreadMs[t.impl] = row.timing.medianMs;
-      else if (row.timing.medianMs > 0.0)
-        row.extra.push_back(realField("speedup", oneThreadMs[t.impl] / row.timing.medianMs));
+      std::vector<RayOutcome>& out = outcomes.emplace_back(primary.rays().size());
+      rows.push_back({caseName, t.impl,
+                      [&arena, &out, &t] { return timeMs([&] { t.trace(arena, out); }); },
+                      [&primary, &out, threads](BenchRow& row) {
+                        setRays(row, out.size());
+                        row.extra.push_back(intField("trace_threads", threads));
+                        primary.judge(row, out, false);
+                      }});
     }
+  }
+  measureRows(report, reps, rows);
+  std::map<std::string, double> oneThreadMs;
+  for (BenchRow& row : report.rows) {
+    const bool oneThread = row.caseName.ends_with(", 1 thread");
+    if (oneThread)
+      oneThreadMs[row.impl] = row.timing.medianMs;
+    else if (row.timing.medianMs > 0.0)
+      row.extra.push_back(realField("speedup", oneThreadMs[row.impl] / row.timing.medianMs));
   }
   // Our speedup against the peer's, both measured in this run.
   const auto speedupOf = [](const BenchRow& row) -> std::optional<double> {

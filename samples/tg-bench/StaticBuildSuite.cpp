@@ -4,8 +4,12 @@
 // default (medium) quality at equal or better trace speed.
 #include <tbb/task_arena.h>
 
+#include <functional>
+#include <list>
+
 #include "BenchTiming.h"
 #include "PrimaryScene.h"
+#include "ReferenceJudge.h"
 #include "SuiteCommon.h"
 #include "Suites.h"
 #include "Variants.h"
@@ -38,35 +42,68 @@ BenchReport runStaticBuildSuite(const CommonOptions& common, const PeerSceneOpti
     primary.judge(row, out, true);
   };
 
+  // Each builder's builds are timed one after the other, each in the memory the previous one
+  // freed, before anything else is built: interleaved with other builders (the kd-tree's take
+  // hundreds of megabytes), a build also pays for faulting its memory in again, which on this
+  // suite's machines costs as much as the build itself and measures the allocator rather than
+  // the builder. The structures are then built once more and their traces timed in one
+  // interleaved group, so that trace ratios compare the same machine states.
+  std::vector<std::string> impls;
+  std::vector<TimingSummary> buildTimes;
+  std::vector<AccelVariant> variants;
   for (const AccelVariant& v : accelVariants()) {
     if (v.name != "bvh" && v.name != "sah-kd") continue;
-    progress("static: tracegraph-" + v.name);
+    impls.push_back("tracegraph-" + v.name);
+    variants.push_back(v);
+    progress("static: " + impls.back());
     // A fresh scene per sample: copying the mesh in is setup, commit() (the object build and a
     // one-instance top level) is measured.
-    const TimingSummary build = measureRepeated(buildReps, [&](int) {
+    buildTimes.push_back(measureRepeated(buildReps, [&](int) {
       Scene scene(v.options);
       populateScene(flat, scene);
       return timeMs([&] { arena.execute([&] { scene.commit(); }); });
-    });
-    Scene scene(v.options);
-    populateScene(flat, scene);
-    arena.execute([&] { scene.commit(); });
-    std::vector<RayOutcome> out;
-    const TimingSummary trace = timeTrace(arena, traceReps, scene, primary.rays(), out);
-    addBuild("tracegraph-" + v.name, build, trace, out);
+    }));
   }
-
 #ifdef TG_HAVE_EMBREE
   EmbreeDevice device(common.threads);
   for (const EmbreeQuality quality : kEmbreeBuildQualities) {
-    progress("static: " + embreeImplName(quality));
-    const TimingSummary build = timeEmbreeBuilds(device, flat, quality, buildReps);
-    EmbreeBenchScene peer(device, flat, quality);
-    arena.execute([&] { peer.commit(); });
-    std::vector<RayOutcome> out;
-    const TimingSummary trace = timeTrace(arena, traceReps, peer, primary.rays(), out);
-    addBuild(embreeImplName(quality), build, trace, out);
+    impls.push_back(embreeImplName(quality));
+    progress("static: " + impls.back());
+    buildTimes.push_back(timeEmbreeBuilds(device, flat, quality, buildReps));
   }
+#endif
+
+  std::vector<std::function<double(int)>> traces;
+  std::list<Scene> scenes;
+  std::list<std::vector<RayOutcome>> outcomes;  // one per row, at addresses that stay put
+  for (const AccelVariant& v : variants) {
+    Scene& scene = scenes.emplace_back(v.options);
+    populateScene(flat, scene);
+    arena.execute([&] { scene.commit(); });
+    std::vector<RayOutcome>& out = outcomes.emplace_back(primary.rays().size());
+    traces.push_back([&arena, &scene, &out, &primary](int) {
+      return timeMs([&] { arena.execute([&] { traceOutcomes(scene, primary.rays(), out); }); });
+    });
+  }
+#ifdef TG_HAVE_EMBREE
+  std::list<EmbreeBenchScene> peers;
+  for (const EmbreeQuality quality : kEmbreeBuildQualities) {
+    EmbreeBenchScene& peer = peers.emplace_back(device, flat, quality);
+    arena.execute([&] { peer.commit(); });
+    device.check("building the scene");
+    std::vector<RayOutcome>& out = outcomes.emplace_back(primary.rays().size());
+    traces.push_back([&arena, &peer, &out, &primary](int) {
+      return timeMs([&] { arena.execute([&] { peer.intersect1(primary.rays(), out); }); });
+    });
+  }
+#endif
+  progress("static: " + std::to_string(traceReps) + " interleaved rounds of traces");
+  const std::vector<TimingSummary> traceTimes = measureInterleaved(traceReps, traces);
+  auto out = outcomes.begin();
+  for (std::size_t i = 0; i < impls.size(); ++i, ++out)
+    addBuild(impls[i], buildTimes[i], traceTimes[i], *out);
+
+#ifdef TG_HAVE_EMBREE
   addTimeRatios(report, embreeImplName(EmbreeQuality::Medium), "build_vs_embree_medium");
   addThroughputRatios(report, embreeImplName(EmbreeQuality::Medium), "trace_vs_embree_medium");
 #endif

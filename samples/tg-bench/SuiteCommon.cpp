@@ -2,6 +2,8 @@
 
 #include <iostream>
 
+#include "BenchTiming.h"
+
 #ifdef TG_HAVE_EMBREE
 #include "EmbreePeer.h"
 #endif
@@ -88,6 +90,21 @@ ExtraField realField(const std::string& key, double value) {
 }
 ExtraField textField(const std::string& key, const std::string& value) {
   return {key, value};
+}
+
+void measureRows(BenchReport& report, int reps, const std::vector<TimedRow>& rows) {
+  std::string names;
+  std::vector<std::function<double(int)>> samples;
+  for (const TimedRow& r : rows) {
+    names += (names.empty() ? "" : ", ") + r.impl;
+    samples.push_back([&r](int) { return r.sample(); });
+  }
+  progress(report.suite + ": " + std::to_string(reps) + " interleaved rounds of " + names);
+  const std::vector<TimingSummary> times = measureInterleaved(reps, samples);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    BenchRow& row = addRow(report, rows[i].caseName, rows[i].impl, times[i]);
+    if (rows[i].finish) rows[i].finish(row);
+  }
 }
 
 void progress(const std::string& message) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "BenchReport.h"
 #include "Suites.h"
@@ -22,6 +23,22 @@ BenchReport startReport(const std::string& suite, const CommonOptions& common);
 /// Appends a row and returns it for adding extra fields.
 BenchRow& addRow(BenchReport& report, const std::string& caseName, const std::string& impl,
                  const TimingSummary& timing);
+
+/// A row timed in one group with others (measureRows).
+struct TimedRow {
+  std::string caseName;  ///< the row's case
+  std::string impl;      ///< the row's implementation
+  /// One repetition; returns the milliseconds it measured itself (setup stays outside).
+  std::function<double()> sample;
+  /// Adds the row's fields once every row of the group is timed; may be empty.
+  std::function<void(BenchRow&)> finish;
+};
+
+/// Times `rows` in interleaved rounds (measureInterleaved: one warm-up each, then `reps` rounds
+/// sampling every row once), then appends them to `report` in order and calls their finish.
+/// Rows compared with each other (ours and the peer's, one thread and two) are timed in one
+/// group, so that their ratio is not the machine's drift between them.
+void measureRows(BenchReport& report, int reps, const std::vector<TimedRow>& rows);
 
 /// Sets the row's Mrays/s from `rays` traced in its median time and records the ray count
 /// (field "rays").

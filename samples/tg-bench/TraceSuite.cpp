@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -112,19 +113,17 @@ std::vector<SurfaceHit> primaryHits(const Scene& scene, std::span<const Ray> ray
   return hits;
 }
 
-/// Measures `trace` (which traces all `rayCount` rays once) inside `arena` and adds its row.
-template <typename Trace>
-BenchRow& measureTrace(BenchReport& report, tbb::task_arena& arena, const std::string& caseName,
-                       const std::string& impl, int reps, std::size_t rayCount,
-                       const Trace& trace) {
-  progress("trace: " + impl);
-  const TimingSummary t =
-      measureRepeated(reps, [&](int) { return timeMs([&] { arena.execute(trace); }); });
-  BenchRow& row = addRow(report, caseName, impl, t);
-  // rays / (ms * 1e-3 s/ms) / 1e6 rays per Mray
-  if (t.medianMs > 0.0) row.mraysPerS = static_cast<double>(rayCount) / (t.medianMs * 1e3);
-  row.extra.push_back(intField("rays", static_cast<std::int64_t>(rayCount)));
-  return row;
+/// A row of the suite: one trace of all the rays inside `arena`, and what is added to its row
+/// once every row has been timed (throughput, answer counts, comparisons, judgements).
+TimedRow tracedRow(tbb::task_arena& arena, const std::string& caseName, const std::string& impl,
+                   std::size_t rayCount, std::function<void()> trace,
+                   std::function<void(BenchRow&)> finish) {
+  return {caseName, impl,
+          [&arena, trace = std::move(trace)] { return timeMs([&] { arena.execute(trace); }); },
+          [rayCount, finish = std::move(finish)](BenchRow& row) {
+            setRays(row, rayCount);
+            finish(row);
+          }};
 }
 
 /// Rays of a trace judged by the brute-force reference: a fixed subsample, since the reference
@@ -216,9 +215,24 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
     row.extra.push_back(intField("judged", static_cast<std::int64_t>(j.rays)));
   };
 
-  // `ours` holds the default engine's answers, which the peer rows are compared with.
-  std::vector<RayOutcome> ours(n), kdOutcomes(n);
-  std::vector<std::uint8_t> oursOccluded(n), kdOccluded(n);
+  // `ours` holds the default engine's answers, which the peer rows are compared with. Every row
+  // writes its own answers, so that the rows can be timed in interleaved rounds and compared
+  // afterwards.
+  std::vector<RayOutcome> ours(n), kdOutcomes(n), packetOutcomes(n);
+  std::vector<std::uint8_t> oursOccluded(n), kdOccluded(n), packetOccluded(n);
+  std::vector<TimedRow> rows;
+  const auto add = [&](const std::string& impl, std::function<void()> trace,
+                       std::function<void(BenchRow&)> finish) {
+    rows.push_back(tracedRow(arena, caseName, impl, n, std::move(trace), std::move(finish)));
+  };
+  const auto countOccluded = [](BenchRow& row, const std::vector<std::uint8_t>& occ) {
+    row.extra.push_back(intField("occluded", std::count(occ.begin(), occ.end(), std::uint8_t{1})));
+  };
+  const auto countHits = [](BenchRow& row, const std::vector<RayOutcome>& out) {
+    row.extra.push_back(intField(
+        "hits",
+        std::count_if(out.begin(), out.end(), [](const RayOutcome& o) { return o.hit(); })));
+  };
   struct EngineRows {
     const char* impl;
     const Scene* traced;
@@ -227,55 +241,53 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
   };
   for (const EngineRows& e : {EngineRows{"tracegraph-bvh", &scene, &ours, &oursOccluded},
                               EngineRows{"tracegraph-kd", &kdScene, &kdOutcomes, &kdOccluded}}) {
+    // The loop's array is a temporary: the rows keep pointers, not references into it.
     if (shadow) {
-      std::vector<std::uint8_t>& occ = *e.occluded;
-      BenchRow& row = measureTrace(report, arena, caseName, e.impl, reps, n,
-                                   [&] { occludedOurs(*e.traced, rays, occ); });
-      row.extra.push_back(
-          intField("occluded", std::count(occ.begin(), occ.end(), std::uint8_t{1})));
-      judgeAny(row, occ);
+      add(
+          e.impl,
+          [&rays, traced = e.traced, occ = e.occluded] { occludedOurs(*traced, rays, *occ); },
+          [&, occ = e.occluded](BenchRow& row) {
+            countOccluded(row, *occ);
+            judgeAny(row, *occ);
+          });
     } else {
-      std::vector<RayOutcome>& out = *e.outcomes;
-      BenchRow& row = measureTrace(report, arena, caseName, e.impl, reps, n,
-                                   [&] { traceOurs(*e.traced, rays, out); });
-      row.extra.push_back(intField(
-          "hits",
-          std::count_if(out.begin(), out.end(), [](const RayOutcome& o) { return o.hit(); })));
-      judgeClosest(row, out);
+      add(
+          e.impl, [&rays, traced = e.traced, out = e.outcomes] { traceOurs(*traced, rays, *out); },
+          [&, out = e.outcomes](BenchRow& row) {
+            countHits(row, *out);
+            judgeClosest(row, *out);
+          });
     }
   }
 
   // Packets of 8 (the BVH engine; the kd engine would trace every lane alone), rows named
   // after the SIMD kernel in use. Their answers must equal the single-ray walk's.
-  {
-    const std::string impl = "tracegraph-bvh-packets";
-    if (shadow) {
-      std::vector<std::uint8_t> occ(n);
-      BenchRow& row = measureTrace(report, arena, caseName, impl, reps, n,
-                                   [&] { occludedPacketsOurs(scene, rays, occ); });
-      row.extra.push_back(
-          intField("occluded", std::count(occ.begin(), occ.end(), std::uint8_t{1})));
-      row.extra.push_back(
-          intField("single_ray_mismatches",
-                   static_cast<std::int64_t>(compareOcclusion(oursOccluded, occ).hitMiss)));
-      row.extra.push_back(textField("simd", std::string(simdIsaName(activeSimdIsa()))));
-      judgeAny(row, occ);
-    } else {
-      const std::vector<std::uint32_t> order = blockOrder(options.size);
-      std::vector<Ray> stream(order.size());
-      for (std::size_t k = 0; k < order.size(); ++k) stream[k] = rays[order[k]];
-      std::vector<RayOutcome> out(n);
-      BenchRow& row = measureTrace(report, arena, caseName, impl, reps, n,
-                                   [&] { tracePacketsOurs(scene, stream, order, out); });
-      row.extra.push_back(intField(
-          "hits",
-          std::count_if(out.begin(), out.end(), [](const RayOutcome& o) { return o.hit(); })));
-      const MismatchCounts m = compareOutcomes(ours, out);
-      row.extra.push_back(
-          intField("single_ray_mismatches", static_cast<std::int64_t>(m.hitMiss + m.prim)));
-      row.extra.push_back(textField("simd", std::string(simdIsaName(activeSimdIsa()))));
-      judgeClosest(row, out);
-    }
+  const std::vector<std::uint32_t> order = blockOrder(options.size);
+  std::vector<Ray> stream;
+  if (shadow) {
+    add(
+        "tracegraph-bvh-packets", [&] { occludedPacketsOurs(scene, rays, packetOccluded); },
+        [&](BenchRow& row) {
+          countOccluded(row, packetOccluded);
+          row.extra.push_back(intField(
+              "single_ray_mismatches",
+              static_cast<std::int64_t>(compareOcclusion(oursOccluded, packetOccluded).hitMiss)));
+          row.extra.push_back(textField("simd", std::string(simdIsaName(activeSimdIsa()))));
+          judgeAny(row, packetOccluded);
+        });
+  } else {
+    stream.resize(order.size());
+    for (std::size_t k = 0; k < order.size(); ++k) stream[k] = rays[order[k]];
+    add(
+        "tracegraph-bvh-packets", [&] { tracePacketsOurs(scene, stream, order, packetOutcomes); },
+        [&](BenchRow& row) {
+          countHits(row, packetOutcomes);
+          const MismatchCounts m = compareOutcomes(ours, packetOutcomes);
+          row.extra.push_back(
+              intField("single_ray_mismatches", static_cast<std::int64_t>(m.hitMiss + m.prim)));
+          row.extra.push_back(textField("simd", std::string(simdIsaName(activeSimdIsa()))));
+          judgeClosest(row, packetOutcomes);
+        });
   }
 
 #ifdef TG_HAVE_EMBREE
@@ -284,25 +296,31 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
   EmbreeBenchScene peer(device, bench, EmbreeQuality::High);
   arena.execute([&] { peer.commit(); });
   device.check("building the scene");
+  std::vector<std::uint8_t> theirsOccluded(n);
+  std::vector<RayOutcome> theirs1(n), theirs8(n);
   if (shadow) {
-    std::vector<std::uint8_t> occluded(n);
-    BenchRow& row = measureTrace(report, arena, caseName, "embree-occluded1", reps, n,
-                                 [&] { peer.occluded1(rays, occluded); });
-    addMismatches(row, compareOcclusion(oursOccluded, occluded), false);
-    judgeAny(row, occluded);
+    add(
+        "embree-occluded1", [&] { peer.occluded1(rays, theirsOccluded); },
+        [&](BenchRow& row) {
+          addMismatches(row, compareOcclusion(oursOccluded, theirsOccluded), false);
+          judgeAny(row, theirsOccluded);
+        });
   } else {
-    std::vector<RayOutcome> theirs(n);
-    BenchRow& row1 = measureTrace(report, arena, caseName, "embree-intersect1", reps, n,
-                                  [&] { peer.intersect1(rays, theirs); });
-    addMismatches(row1, compareOutcomes(ours, theirs), true);
-    judgeClosest(row1, theirs);
-    std::fill(theirs.begin(), theirs.end(), RayOutcome{});
-    BenchRow& row8 = measureTrace(report, arena, caseName, "embree-intersect8", reps, n,
-                                  [&] { peer.intersect8(rays, options.size, theirs); });
-    addMismatches(row8, compareOutcomes(ours, theirs), true);
-    judgeClosest(row8, theirs);
+    add(
+        "embree-intersect1", [&] { peer.intersect1(rays, theirs1); },
+        [&](BenchRow& row) {
+          addMismatches(row, compareOutcomes(ours, theirs1), true);
+          judgeClosest(row, theirs1);
+        });
+    add(
+        "embree-intersect8", [&] { peer.intersect8(rays, options.size, theirs8); },
+        [&](BenchRow& row) {
+          addMismatches(row, compareOutcomes(ours, theirs8), true);
+          judgeClosest(row, theirs8);
+        });
   }
 #endif
+  measureRows(report, reps, rows);
   return report;
 }
 
