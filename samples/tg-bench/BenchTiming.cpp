@@ -29,11 +29,13 @@ TimingSummary measureRepeated(int reps, const std::function<double(int)>& sample
 std::vector<TimingSummary> measureInterleaved(
     int reps, const std::vector<std::function<double(int)>>& samples) {
   if (reps < 1) throw std::invalid_argument("measureInterleaved: reps must be at least 1");
-  for (const auto& sample : samples) sample(0);
   std::vector<std::vector<double>> times(samples.size());
   for (auto& t : times) t.reserve(static_cast<std::size_t>(reps));
   for (int k = 1; k <= reps; ++k)
-    for (std::size_t i = 0; i < samples.size(); ++i) times[i].push_back(samples[i](k));
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      samples[i](0);
+      times[i].push_back(samples[i](k));
+    }
   std::vector<TimingSummary> out;
   out.reserve(samples.size());
   for (auto& t : times) out.push_back(summarize(std::move(t)));

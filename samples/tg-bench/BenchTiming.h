@@ -26,11 +26,14 @@ TimingSummary summarize(std::vector<double> samples);
 /// outside the measurement.
 TimingSummary measureRepeated(int reps, const std::function<double(int)>& sample);
 
-/// measureRepeated for several cases at once, interleaved: one untimed warm-up call of each,
-/// then `reps` rounds in which every case is sampled once, in order. The machines these figures
-/// come from change speed by up to a quarter within minutes; timed in rounds, every case sees
-/// the same machine states, and ratios between cases are far steadier than between cases timed
-/// one after the other. Returns one summary per case.
+/// measureRepeated for several cases at once, interleaved: `reps` rounds in which every case
+/// is sampled twice in a row, the first call untimed, the second timed. The machines these
+/// figures come from change speed by up to a quarter within minutes; timed in rounds, every
+/// case sees the same machine states, and ratios between cases are far steadier than between
+/// cases timed one after the other. The untimed call before each timed one gives the case back
+/// its own warm caches (and a task arena its awake workers), which the other cases' calls took
+/// away: timed right after another case, a trace of the BART kitchen ran up to 15% slower.
+/// Returns one summary per case.
 std::vector<TimingSummary> measureInterleaved(
     int reps, const std::vector<std::function<double(int)>>& samples);
 
