@@ -34,8 +34,9 @@ struct TimedRow {
   std::function<void(BenchRow&)> finish;
 };
 
-/// Times `rows` in interleaved rounds (measureInterleaved: one warm-up each, then `reps` rounds
-/// sampling every row once), then appends them to `report` in order and calls their finish.
+/// Times `rows` in interleaved rounds (measureInterleaved: `reps` rounds, each row sampled once
+/// per round right after an untimed sample of its own), then appends them to `report` in order
+/// and calls their finish.
 /// Rows compared with each other (ours and the peer's, one thread and two) are timed in one
 /// group, so that their ratio is not the machine's drift between them.
 void measureRows(BenchReport& report, int reps, const std::vector<TimedRow>& rows);
