@@ -262,7 +262,9 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
 
   // Packets of 8 (the BVH engine; the kd engine would trace every lane alone), rows named
   // after the SIMD kernel in use. Their answers must equal the single-ray walk's.
-  const std::vector<std::uint32_t> order = blockOrder(options.size);
+  // Primary packets trace 4x2 pixel blocks: the block order and the rays in it outlive the
+  // rows, which trace them by reference.
+  std::vector<std::uint32_t> order;
   std::vector<Ray> stream;
   if (shadow) {
     add(
@@ -276,6 +278,7 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
           judgeAny(row, packetOccluded);
         });
   } else {
+    order = blockOrder(options.size);
     stream.resize(order.size());
     for (std::size_t k = 0; k < order.size(); ++k) stream[k] = rays[order[k]];
     add(
