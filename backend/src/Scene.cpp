@@ -363,28 +363,20 @@ bool Scene::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const {
   return true;
 }
 
-void Scene::fillGeometricNormal(Hit& hit) const {
-  // The leaf test left the object-space normal, cross(v1 - v0, v2 - v0) from the double t
-  // refinement, scaled into float's range (objectNormalForHit): reading the triangle again from
-  // the mesh here would cost cache misses on every hit. Mapped in double: the inverse transpose
-  // keeps it perpendicular under non-uniform scale and points it to the same side of the
-  // surface after a mirroring (negative determinant) transform.
-  // mapNormalsInPairs repeats these operations for packets, in this order: change both alike.
-  const Vec3d n = impl_->instances[hit.instanceId].worldToObject.transformTransposed(
-      Vec3d(hit.geometricNormal));
-  hit.geometricNormal = Vec3f(normalize(n));
-}
-
-#if defined(__SSE2__)
 namespace {
 
-/// Scene::fillGeometricNormal for `count` hits, two per SSE2 instruction: the same IEEE
-/// operations in the same order (this baseline translation unit has no fused multiply-add to
-/// contract into; square root, division and the rounding to float are correctly rounded in
-/// vectors as in scalars), so the same bits as hit by hit. Three divisions per hit made the
-/// normals 7% of a packet's trace; in pairs, primary packets of the BART kitchen and robots
-/// traced 2-5% faster (interleaved runs, both cameras).
-void mapNormalsInPairs(const Affine3d* const* worldToObject, Hit* const* hits, std::size_t count) {
+/// The world normals of `count` hits from the object-space normals the leaf tests left (see
+/// Scene::fillGeometricNormal), each by the inverse transpose of its instance (worldToObject
+/// transposed), in double, then normalised and rounded to float. Single rays and packets both
+/// come here, so they give the same bits by construction.
+///
+/// On x86-64 two hits per SSE2 instruction: the operations of transformTransposed and normalize
+/// in their order (this baseline translation unit has no fused multiply-add to contract into;
+/// square root, division and the rounding to float are correctly rounded in vectors as in
+/// scalars). Three divisions per hit made the normals 7% of a packet's trace; in pairs, primary
+/// packets of the BART kitchen and robots traced 2-5% faster (interleaved runs, both cameras).
+void mapNormals(const Affine3d* const* worldToObject, Hit* const* hits, std::size_t count) {
+#if defined(__SSE2__)
   for (std::size_t i = 0; i < count; i += 2) {
     const std::size_t j = i + 1 < count ? i + 1 : i;
     const Affine3d& a = *worldToObject[i];
@@ -410,10 +402,26 @@ void mapNormalsInPairs(const Affine3d* const* worldToObject, Hit* const* hits, s
     hits[i]->geometricNormal = {fx[0], fy[0], fz[0]};
     hits[j]->geometricNormal = {fx[1], fy[1], fz[1]};
   }
+#else
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec3d n = worldToObject[i]->transformTransposed(Vec3d(hits[i]->geometricNormal));
+    hits[i]->geometricNormal = Vec3f(normalize(n));
+  }
+#endif
 }
 
 }  // namespace
-#endif
+
+void Scene::fillGeometricNormal(Hit& hit) const {
+  // The leaf test left the object-space normal, cross(v1 - v0, v2 - v0) from the double t
+  // refinement, scaled into float's range (objectNormalForHit): reading the triangle again from
+  // the mesh here would cost cache misses on every hit. Mapped in double: the inverse transpose
+  // keeps it perpendicular under non-uniform scale and points it to the same side of the
+  // surface after a mirroring (negative determinant) transform.
+  const Affine3d* worldToObject = &impl_->instances[hit.instanceId].worldToObject;
+  Hit* one = &hit;
+  mapNormals(&worldToObject, &one, 1);
+}
 
 void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalContext& ctx) const {
   if (rays.size() != hits.size())
@@ -446,7 +454,7 @@ void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalC
       // The top level leaves out the rays that are not traceable, from the rows it loads.
       impl_->topLevel->intersectPacket(packet, detail::kAllLanes, packetHits, ctx);
     }
-#if defined(__SSE2__)
+    // The packet's normals in one call, which maps them two at a time (mapNormals).
     const Affine3d* worldToObject[kRayPacketSize];
     Hit* hit[kRayPacketSize];
     std::size_t count = 0;
@@ -455,11 +463,7 @@ void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalC
         worldToObject[count] = &impl_->instances[packetHits[l].instanceId].worldToObject;
         hit[count++] = &packetHits[l];
       }
-    mapNormalsInPairs(worldToObject, hit, count);
-#else
-    for (std::size_t l = 0; l < n; ++l)
-      if (packetHits[l].valid()) fillGeometricNormal(packetHits[l]);
-#endif
+    mapNormals(worldToObject, hit, count);
   }
 }
 
