@@ -293,19 +293,29 @@ bool BvhAccel::occludedTriangle(const ObjectRay& ray, std::uint32_t k) const {
 
 bool BvhAccel::intersectLeaf(ObjectRay& ray, Hit& hit, std::uint32_t first, std::uint32_t count,
                              TraversalContext& ctx) const {
-  bool found = false;
   ctx.triangleTests += count;
-  for (std::uint32_t k = first; k < first + count; ++k) found |= intersectTriangle(ray, hit, k);
-  return found;
+  // One loop per axis permutation: the vertex components the test needs are then read
+  // directly rather than selected at run time (5-6% faster single rays, BART kitchen and
+  // robots, both cameras, primary and shadow).
+  return withFixedAxes(ray.wt, [&](const auto& axes) {
+    bool found = false;
+    for (std::uint32_t k = first; k < first + count; ++k)
+      found |= recordTriangleHitWith(ray, axes, triangles_[k], primIds_[k], hit);
+    return found;
+  });
 }
 
 bool BvhAccel::occludedLeaf(const ObjectRay& ray, std::uint32_t first, std::uint32_t count,
                             TraversalContext& ctx) const {
-  for (std::uint32_t k = first; k < first + count; ++k) {
-    ++ctx.triangleTests;
-    if (occludedTriangle(ray, k)) return true;
-  }
-  return false;
+  return withFixedAxes(ray.wt, [&](const auto& axes) {
+    for (std::uint32_t k = first; k < first + count; ++k) {
+      ++ctx.triangleTests;
+      const TriangleVertices& tri = triangles_[k];
+      TriangleHit th;
+      if (intersectWatertightWith(ray.wt, axes, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return true;
+    }
+    return false;
+  });
 }
 
 const float* BvhAccel::triangleFloats(std::uint32_t first) const {

@@ -80,7 +80,9 @@ class BvhAccel final : public ObjectAccel {
   bool intersectSubtree(ObjectRay& ray, Hit& hit, std::uint32_t node, TraversalContext& ctx) const;
   /// Any hit of one ray in the subtree rooted at inner node `node`.
   bool occludedSubtree(const ObjectRay& ray, std::uint32_t node, TraversalContext& ctx) const;
-  /// Closest-hit test of one ray against triangle `k` (leaf order): the step of intersectLeaf.
+  /// Closest-hit test of one ray against triangle `k` (leaf order), with the same answers as
+  /// intersectLeaf's step (which reads the ray's axis permutation as constants): the packet
+  /// leaves' test for lanes the SIMD test does not decide.
   bool intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) const;
   /// Any-hit test of one ray against triangle `k` (leaf order).
   bool occludedTriangle(const ObjectRay& ray, std::uint32_t k) const;

@@ -37,13 +37,44 @@ inline bool recordHit(ObjectRay& ray, const TriangleHit& th, std::uint32_t prim,
   return true;
 }
 
+/// recordTriangleHit with the ray's axis permutation given as `axes` (see withFixedAxes).
+template <class Axes>
+inline bool recordTriangleHitWith(ObjectRay& ray, const Axes& axes, const TriangleVertices& tri,
+                                  std::uint32_t prim, Hit& hit) {
+  TriangleHit th;
+  if (!intersectWatertightWith(ray.wt, axes, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return false;
+  return recordHit(ray, th, prim, hit);
+}
+
 /// Tests `tri` (mesh triangle `prim`) against `ray` for t in [tnear, ray.tfar]; when it is hit
 /// and precedes `hit` (hitPrecedes), records it in `hit` and lowers ray.tfar to its t.
 inline bool recordTriangleHit(ObjectRay& ray, const TriangleVertices& tri, std::uint32_t prim,
                               Hit& hit) {
-  TriangleHit th;
-  if (!intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return false;
-  return recordHit(ray, th, prim, hit);
+  return recordTriangleHitWith(ray, RayAxes(ray.wt), tri, prim, hit);
+}
+
+/// Calls `f(axes)` with the ray's axis permutation as the FixedAxes equal to it, and returns
+/// what f returns: a leaf's triangle loop is then compiled once per permutation (six, see
+/// WatertightRay::shearAxes) and reads vertex components without run-time selection. A
+/// permutation shearAxes cannot produce goes to f(RayAxes(ray)).
+template <class F>
+inline auto withFixedAxes(const WatertightRay& ray, const F& f) {
+  switch (ray.kz * 3 + ray.kx) {
+    case 0 * 3 + 1:
+      return f(FixedAxes<1, 2, 0>{});
+    case 0 * 3 + 2:
+      return f(FixedAxes<2, 1, 0>{});
+    case 1 * 3 + 2:
+      return f(FixedAxes<2, 0, 1>{});
+    case 1 * 3 + 0:
+      return f(FixedAxes<0, 2, 1>{});
+    case 2 * 3 + 0:
+      return f(FixedAxes<0, 1, 2>{});
+    case 2 * 3 + 1:
+      return f(FixedAxes<1, 0, 2>{});
+    default:
+      return f(RayAxes(ray));
+  }
 }
 
 }  // namespace tg::detail

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 
 #include "tracegraph/backend/Ray.h"
 
@@ -75,19 +76,38 @@ struct TriangleHit {
   Vec3d normal;
 };
 
-/// Tests the triangle (a, b, c) against the ray for t in [ray.tnear, tfar]. Degenerate
-/// triangles (zero determinant) never hit. Both faces are hit (no culling).
-inline bool intersectWatertight(const WatertightRay& ray, const Vec3f& a, const Vec3f& b,
-                                const Vec3f& c, float tfar, TriangleHit& out) {
+namespace detail {
+
+/// The axis permutation of a WatertightRay as run-time values.
+struct RayAxes {
+  std::size_t kx, ky, kz;
+  explicit RayAxes(const WatertightRay& ray)
+      : kx(static_cast<std::size_t>(ray.kx)),
+        ky(static_cast<std::size_t>(ray.ky)),
+        kz(static_cast<std::size_t>(ray.kz)) {}
+};
+
+/// An axis permutation as compile-time constants: the triangle test then reads the vertex
+/// components it needs directly, where run-time indices make it select them one by one.
+template <std::size_t Kx, std::size_t Ky, std::size_t Kz>
+struct FixedAxes {
+  static constexpr std::size_t kx = Kx, ky = Ky, kz = Kz;
+};
+
+/// intersectWatertight with the ray's permutation given as `axes` (RayAxes or the FixedAxes
+/// equal to it): the same operations in the same order, so the same answers.
+template <class Axes>
+inline bool intersectWatertightWith(const WatertightRay& ray, const Axes& axes, const Vec3f& a,
+                                    const Vec3f& b, const Vec3f& c, float tfar, TriangleHit& out) {
   const Vec3f A = a - ray.origin;
   const Vec3f B = b - ray.origin;
   const Vec3f C = c - ray.origin;
-  const float ax = A[ray.kx] - ray.sx * A[ray.kz];
-  const float ay = A[ray.ky] - ray.sy * A[ray.kz];
-  const float bx = B[ray.kx] - ray.sx * B[ray.kz];
-  const float by = B[ray.ky] - ray.sy * B[ray.kz];
-  const float cx = C[ray.kx] - ray.sx * C[ray.kz];
-  const float cy = C[ray.ky] - ray.sy * C[ray.kz];
+  const float ax = A[axes.kx] - ray.sx * A[axes.kz];
+  const float ay = A[axes.ky] - ray.sy * A[axes.kz];
+  const float bx = B[axes.kx] - ray.sx * B[axes.kz];
+  const float by = B[axes.ky] - ray.sy * B[axes.kz];
+  const float cx = C[axes.kx] - ray.sx * C[axes.kz];
+  const float cy = C[axes.ky] - ray.sy * C[axes.kz];
   float U = cx * by - cy * bx;
   float V = ax * cy - ay * cx;
   float W = bx * ay - by * ax;
@@ -125,6 +145,15 @@ inline bool intersectWatertight(const WatertightRay& ray, const Vec3f& a, const 
   out.v = W * invDet;
   out.normal = n;
   return true;
+}
+
+}  // namespace detail
+
+/// Tests the triangle (a, b, c) against the ray for t in [ray.tnear, tfar]. Degenerate
+/// triangles (zero determinant) never hit. Both faces are hit (no culling).
+inline bool intersectWatertight(const WatertightRay& ray, const Vec3f& a, const Vec3f& b,
+                                const Vec3f& c, float tfar, TriangleHit& out) {
+  return detail::intersectWatertightWith(ray, detail::RayAxes(ray), a, b, c, tfar, out);
 }
 
 }  // namespace tg
