@@ -295,7 +295,7 @@ bool BvhAccel::intersectLeaf(ObjectRay& ray, Hit& hit, std::uint32_t first, std:
                              TraversalContext& ctx) const {
   ctx.triangleTests += count;
   // One loop per axis permutation: the vertex components the test needs are then read
-  // directly rather than selected at run time (5-6% faster single rays, BART kitchen and
+  // directly rather than selected at run time (4-6% faster single rays, BART kitchen and
   // robots, both cameras, primary and shadow).
   return withFixedAxes(ray.wt, [&](const auto& axes) {
     bool found = false;
