@@ -286,9 +286,7 @@ bool BvhAccel::intersectTriangle(ObjectRay& ray, Hit& hit, std::uint32_t k) cons
 }
 
 bool BvhAccel::occludedTriangle(const ObjectRay& ray, std::uint32_t k) const {
-  const TriangleVertices& tri = triangles_[k];
-  TriangleHit th;
-  return intersectWatertight(ray.wt, tri.v0, tri.v1, tri.v2, ray.tfar, th);
+  return hitsTriangleWith(ray, RayAxes(ray.wt), triangles_[k]);
 }
 
 bool BvhAccel::intersectLeaf(ObjectRay& ray, Hit& hit, std::uint32_t first, std::uint32_t count,
@@ -310,9 +308,7 @@ bool BvhAccel::occludedLeaf(const ObjectRay& ray, std::uint32_t first, std::uint
   return withFixedAxes(ray.wt, [&](const auto& axes) {
     for (std::uint32_t k = first; k < first + count; ++k) {
       ++ctx.triangleTests;
-      const TriangleVertices& tri = triangles_[k];
-      TriangleHit th;
-      if (intersectWatertightWith(ray.wt, axes, tri.v0, tri.v1, tri.v2, ray.tfar, th)) return true;
+      if (hitsTriangleWith(ray, axes, triangles_[k])) return true;
     }
     return false;
   });

@@ -46,6 +46,14 @@ inline bool recordTriangleHitWith(ObjectRay& ray, const Axes& axes, const Triang
   return recordHit(ray, th, prim, hit);
 }
 
+/// True when `tri` is hit by `ray` for t in [tnear, ray.tfar] (the any-hit step), with the
+/// ray's axis permutation given as `axes` (see withFixedAxes).
+template <class Axes>
+inline bool hitsTriangleWith(const ObjectRay& ray, const Axes& axes, const TriangleVertices& tri) {
+  TriangleHit th;
+  return intersectWatertightWith(ray.wt, axes, tri.v0, tri.v1, tri.v2, ray.tfar, th);
+}
+
 /// Tests `tri` (mesh triangle `prim`) against `ray` for t in [tnear, ray.tfar]; when it is hit
 /// and precedes `hit` (hitPrecedes), records it in `hit` and lowers ray.tfar to its t.
 inline bool recordTriangleHit(ObjectRay& ray, const TriangleVertices& tri, std::uint32_t prim,
