@@ -483,6 +483,46 @@ BOOST_AUTO_TEST_CASE(shadow_rays_stop_short_of_a_light_on_a_surface) {
   }
 }
 
+BOOST_AUTO_TEST_CASE(rays_spawned_in_place_equal_returned_rays_even_from_their_own_fields) {
+  // The in-place forms write a ray that the shader keeps in a table; they must give the
+  // returned forms' bits, also when the target or direction is a field of the ray written.
+  const auto sameBits = [](const Ray& a, const Ray& b) {
+    return std::memcmp(&a, &b, sizeof(Ray)) == 0;
+  };
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> coord(-1e3f, 1e3f);
+  for (int i = 0; i < 200; ++i) {
+    SurfacePoint sp;
+    sp.position = {coord(rng), coord(rng), coord(rng)};
+    sp.geometricNormal = normalize(Vec3f{coord(rng), coord(rng), coord(rng)});
+    sp.error = 1e-4f;
+    const Vec3f target{coord(rng), coord(rng), coord(rng)};
+    const Vec3f w = normalize(target - sp.position);
+    const Ray towards = spawnRayTo(sp, target), along = spawnRay(sp, w);
+
+    Ray r;
+    spawnRayTo(sp, target, r);
+    BOOST_TEST(sameBits(r, towards));
+    r = Ray{};
+    r.origin = target;  // the target is the origin being overwritten
+    spawnRayTo(sp, r.origin, r);
+    BOOST_TEST(sameBits(r, towards));
+    r.direction = target;  // ... or the direction
+    spawnRayTo(sp, r.direction, r);
+    BOOST_TEST(sameBits(r, towards));
+
+    spawnRay(sp, w, r);
+    BOOST_TEST(sameBits(r, along));
+    r = Ray{};
+    r.origin = w;
+    spawnRay(sp, r.origin, r);
+    BOOST_TEST(sameBits(r, along));
+    r.direction = w;
+    spawnRay(sp, r.direction, r);
+    BOOST_TEST(sameBits(r, along));
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Refraction (hard cases 15 and 16)
 

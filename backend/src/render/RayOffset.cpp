@@ -72,27 +72,40 @@ Vec3f offsetRayOrigin(const SurfacePoint& sp, const Vec3f& w) {
   return {outwards(o.x, offset.x), outwards(o.y, offset.y), outwards(o.z, offset.z)};
 }
 
+void spawnRay(const SurfacePoint& sp, const Vec3f& w, Ray& out) {
+  // Computed before `out` is written: w may be one of its fields.
+  const Vec3f origin = offsetRayOrigin(sp, w);
+  out.direction = w;  // before the origin: w may be out.origin
+  out.origin = origin;
+  out.tnear = 0.0f;
+  out.tfar = kInfinity;
+}
+
 Ray spawnRay(const SurfacePoint& sp, const Vec3f& w) {
   Ray r;
-  r.origin = offsetRayOrigin(sp, w);
-  r.direction = w;
-  r.tnear = 0.0f;
-  r.tfar = kInfinity;
+  spawnRay(sp, w, r);
   return r;
+}
+
+void spawnRayTo(const SurfacePoint& sp, const Vec3f& target, Ray& out) {
+  // Computed before `out` is written: target may be one of its fields.
+  const Vec3f origin = offsetRayOrigin(sp, target - sp.position);
+  const Vec3f direction = target - origin;
+  // Stop short of the target by a bound of the same kind as the origin offset, relative to the
+  // larger of the two magnitudes, plus a few ulps for the rounding of t itself.
+  const float magnitude = std::max(maxAbs(target), maxAbs(origin));
+  const float len = length(direction);
+  const float shortfall =
+      len > 0.0f ? kOffsetUlps * kUnitRoundoff * magnitude / len + 4.0f * kUnitRoundoff : 1.0f;
+  out.origin = origin;
+  out.tnear = 0.0f;
+  out.direction = direction;
+  out.tfar = std::max(0.0f, 1.0f - shortfall);
 }
 
 Ray spawnRayTo(const SurfacePoint& sp, const Vec3f& target) {
   Ray r;
-  r.origin = offsetRayOrigin(sp, target - sp.position);
-  r.direction = target - r.origin;
-  r.tnear = 0.0f;
-  // Stop short of the target by a bound of the same kind as the origin offset, relative to the
-  // larger of the two magnitudes, plus a few ulps for the rounding of t itself.
-  const float magnitude = std::max(maxAbs(target), maxAbs(r.origin));
-  const float len = length(r.direction);
-  const float shortfall =
-      len > 0.0f ? kOffsetUlps * kUnitRoundoff * magnitude / len + 4.0f * kUnitRoundoff : 1.0f;
-  r.tfar = std::max(0.0f, 1.0f - shortfall);
+  spawnRayTo(sp, target, r);
   return r;
 }
 

@@ -459,8 +459,11 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&&
     term.contributes = true;
     term.needsShadowRay = false;
     if (whitted_) {
-      term.shadow =
-          atInfinity ? spawnRay(surface(sh), direction) : spawnRayTo(surface(sh), position);
+      // Written in place (see spawnRay): a returned ray copied in here stalled on its stores.
+      if (atInfinity)
+        spawnRay(surface(sh), direction, term.shadow);
+      else
+        spawnRayTo(surface(sh), position, term.shadow);
       if (term.shadow.tfar > 0.0f) {
         ++counters.traced.shadow;
         term.needsShadowRay = true;

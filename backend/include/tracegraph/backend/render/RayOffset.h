@@ -49,11 +49,17 @@ Vec3f offsetRayOrigin(const SurfacePoint& sp, const Vec3f& w);
 
 /// A ray from `sp` in direction `w` (tnear 0, tfar infinity), origin offset to w's side.
 Ray spawnRay(const SurfacePoint& sp, const Vec3f& w);
+/// spawnRay written into `out` field by field, for rays stored in a table: a returned Ray is
+/// copied in 16-byte moves from a slot written in narrower stores, which the processor cannot
+/// forward (the copy waits for the stores to reach the cache).
+void spawnRay(const SurfacePoint& sp, const Vec3f& w, Ray& out);
 
 /// A shadow ray from `sp` towards the point `target`: direction target - origin, tnear 0, and
 /// tfar just short of 1 by the same kind of relative bound, so that geometry *at* the target
 /// (a light placed on a surface) does not occlude it. tfar is 0 when the target is within the
 /// error bound of the origin; treat such a target as visible.
 Ray spawnRayTo(const SurfacePoint& sp, const Vec3f& target);
+/// spawnRayTo written into `out` field by field (see spawnRay).
+void spawnRayTo(const SurfacePoint& sp, const Vec3f& target, Ray& out);
 
 }  // namespace tg
