@@ -289,6 +289,10 @@ bool BvhAccel::occludedTriangle(const ObjectRay& ray, std::uint32_t k) const {
   return hitsTriangleWith(ray, RayAxes(ray.wt), triangles_[k]);
 }
 
+bool BvhAccel::occludedByPrimitive(const ObjectRay& ray, std::uint32_t primitive) const {
+  return primitive < triangles_.size() && occludedTriangle(ray, primitive);
+}
+
 bool BvhAccel::intersectLeaf(ObjectRay& ray, Hit& hit, std::uint32_t first, std::uint32_t count,
                              TraversalContext& ctx) const {
   ctx.triangleTests += count;
@@ -308,7 +312,10 @@ bool BvhAccel::occludedLeaf(const ObjectRay& ray, std::uint32_t first, std::uint
   return withFixedAxes(ray.wt, [&](const auto& axes) {
     for (std::uint32_t k = first; k < first + count; ++k) {
       ++ctx.triangleTests;
-      if (hitsTriangleWith(ray, axes, triangles_[k])) return true;
+      if (hitsTriangleWith(ray, axes, triangles_[k])) {
+        ctx.occludingPrimitive = k;
+        return true;
+      }
     }
     return false;
   });
@@ -445,13 +452,15 @@ unsigned occludedPacketLeaf(void* user, std::uint32_t first, std::uint32_t count
   unsigned blocked = 0;
   forEachTriangle(
       c, first, count, lanes, rays.tfar, true,
-      [&](unsigned l, std::uint32_t, const TriangleHit&) {
+      [&](unsigned l, std::uint32_t k, const TriangleHit&) {
         blocked |= 1u << l;
+        c.ctx->occludingPrimitive = k;
         return true;
       },
       [&](unsigned l, std::uint32_t k) {
         if (!c.accel->occludedTriangle(c.packet->rays[l], k)) return false;
         blocked |= 1u << l;
+        c.ctx->occludingPrimitive = k;
         return true;
       });
   return blocked;

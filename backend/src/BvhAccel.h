@@ -46,6 +46,7 @@ class BvhAccel final : public ObjectAccel {
   Box3f bounds() const override { return bounds_; }
   bool intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const override;
   bool occluded(const ObjectRay& ray, TraversalContext& ctx) const override;
+  bool occludedByPrimitive(const ObjectRay& ray, std::uint32_t primitive) const override;
   unsigned intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit* hits,
                            TraversalContext& ctx) const override;
   unsigned occludedPacket(const ObjectRayPacket& packet, unsigned lanes,

@@ -20,11 +20,15 @@ namespace {
 /// Instance counts from which the copies into and out of the builder run in parallel.
 constexpr std::size_t kParallelCopy = 16384;
 
+/// Source of TopLevelBvh::buildId_ (0 is no build).
+std::atomic<std::uint64_t> lastBuildId{0};
+
 }  // namespace
 
 void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
   const auto start = std::chrono::steady_clock::now();
   instances_ = instances;
+  buildId_ = lastBuildId.fetch_add(1, std::memory_order_relaxed) + 1;
   stats_ = {};
   stats_.instances = instances.size();
   // Large scenes make the primitives in parallel, at their instance's index; empty boxes (none
@@ -97,12 +101,28 @@ bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) con
                              });
 }
 
+bool TopLevelBvh::occludedByHint(const Ray& ray, TraversalContext& ctx) const {
+  if (ctx.occluder.build != buildId_) return false;
+  const InstanceRecord& inst = instances_[ctx.occluder.instance];
+  ++ctx.triangleTests;
+  return inst.accel->occludedByPrimitive(objectRayFor(inst, ray, ray.tfar), ctx.occluder.primitive);
+}
+
+void TopLevelBvh::rememberOccluder(std::uint32_t instance, TraversalContext& ctx) const {
+  ctx.occluder = {buildId_, instance, ctx.occludingPrimitive};
+}
+
 bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
+  // The hint's triangle first: true only where the walk would find the ray occluded as well.
+  if (occludedByHint(ray, ctx)) return true;
   InstanceEntry enter(ray);
   return traverseBvh4<true>(bvh_.nodes, ray.origin, ray.direction, ray.tnear, ray.tfar,
                             ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
                               for (std::uint32_t k = first; k < first + count; ++k)
-                                if (enter.occluded(instances_[refs_[k]], ctx)) return true;
+                                if (enter.occluded(instances_[refs_[k]], ctx)) {
+                                  rememberOccluder(refs_[k], ctx);
+                                  return true;
+                                }
                               return false;
                             });
 }
@@ -252,6 +272,7 @@ struct TopLevelPacketWalk {
       } else {
         found = inst.accel->occludedPacket(packet, lanes, *w.ctx);
       }
+      if (found != 0) w.top->rememberOccluder(w.top->refs_[k], *w.ctx);
       blocked |= found;
       lanes &= ~found;
     }
@@ -290,7 +311,10 @@ struct TopLevelPacketWalk {
                w.ctx->nodeVisits,
                [&](std::uint32_t first, std::uint32_t count) {
                  for (std::uint32_t k = first; k < first + count; ++k)
-                   if (enter.occluded(w.top->instances_[w.top->refs_[k]], *w.ctx)) return true;
+                   if (enter.occluded(w.top->instances_[w.top->refs_[k]], *w.ctx)) {
+                     w.top->rememberOccluder(w.top->refs_[k], *w.ctx);
+                     return true;
+                   }
                  return false;
                })
                ? 1u
@@ -345,10 +369,20 @@ void TopLevelBvh::intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
 
 unsigned TopLevelBvh::occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const {
   if (lanes == 0 || bvh_.nodes.empty()) return 0;
+  // Lanes the hint's triangle blocks are done (see occluded); the rest walk.
+  unsigned hinted = 0;
+  if (ctx.occluder.build == buildId_) {
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      if (isTraceable(rays[l]) && occludedByHint(rays[l], ctx)) hinted |= 1u << l;
+    }
+    lanes &= ~hinted;
+    if (lanes == 0) return hinted;
+  }
   const unsigned blocked = TopLevelPacketWalk::walkGroups(
       this, rays, nullptr, ctx, true, &TopLevelPacketWalk::occludedLeaf,
       &TopLevelPacketWalk::occludedSingle, lanes);
-  return blocked | TopLevelAccel::occludedPacket(rays, lanes, ctx);
+  return hinted | blocked | TopLevelAccel::occludedPacket(rays, lanes, ctx);
 }
 
 }  // namespace tg::detail

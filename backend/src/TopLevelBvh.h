@@ -31,7 +31,17 @@ class TopLevelBvh final : public TopLevelAccel {
  private:
   friend struct TopLevelPacketWalk;
 
+  /// True when ray (traceable) is blocked by the triangle ctx.occluder names, if it names one
+  /// of this build (see TraversalContext::OccluderHint).
+  bool occludedByHint(const Ray& ray, TraversalContext& ctx) const;
+  /// Records in ctx.occluder that instance record `instance` blocked a ray, by the triangle its
+  /// accelerator left in ctx.occludingPrimitive.
+  void rememberOccluder(std::uint32_t instance, TraversalContext& ctx) const;
+
   std::span<const InstanceRecord> instances_;
+  /// Unique over all top-level builds of the process, so that an occluder hint of another
+  /// build (or scene) is never taken for one of this.
+  std::uint64_t buildId_ = 0;
   BvhBuildResult bvh_;
   std::vector<std::uint32_t> refs_;  ///< instance indices in leaf order
   std::vector<BvhPrim> prims_;       ///< build scratch

@@ -98,8 +98,7 @@ BOOST_AUTO_TEST_CASE(unknown_ids_and_bad_matrices_are_rejected) {
   rankDeficient.m[0][2] = 1.0;
   rankDeficient.m[1][2] = 1.0;
   rankDeficient.m[2][2] = 0.0;
-  expectRejected(scene, "Scene::createInstance",
-                 [&] { scene.createInstance(box, rankDeficient); });
+  expectRejected(scene, "Scene::createInstance", [&] { scene.createInstance(box, rankDeficient); });
 }
 
 BOOST_AUTO_TEST_CASE(queries_see_only_committed_state) {
@@ -131,4 +130,49 @@ BOOST_AUTO_TEST_CASE(untraceable_rays_never_hit) {
   BOOST_TEST(!scene.intersect({{std::nanf(""), 0.5f, -1.0f}, 0.0f, {0, 0, 1}, kInfinity}, hit));
   BOOST_TEST(!scene.intersect({{0.5f, 0.5f, -1.0f}, 0.0f, {0, kInfinity, 1}, kInfinity}, hit));
   BOOST_TEST(!scene.occluded({{0.5f, 0.5f, -1.0f}, 2.0f, {0, 0, 1}, 1.0f}));
+}
+
+BOOST_AUTO_TEST_CASE(occluder_hints_answer_repeats_and_never_cross_scenes_or_commits) {
+  // Five unit boxes along x; shadow-like rays along +z through one of them.
+  Scene a;
+  const ObjectId box = a.createObject(makeBox());
+  std::vector<InstanceId> row;
+  for (int i = 0; i < 5; ++i)
+    row.push_back(a.createInstance(box, Affine3d::translation({2.0 * i, 0, 0})));
+  a.commit();
+  const auto through = [](float x) { return Ray{{x, 0.2f, -1.0f}, 0.0f, {0, 0, 1}, 3.0f}; };
+
+  TraversalContext ctx;
+  BOOST_TEST(a.occluded(through(8.6f), ctx));
+  // The same blocker again (both rays cross the box's bottom face on the same side of either
+  // diagonal, so through the same triangle): answered by the hint's triangle, without a node visit.
+  const std::uint64_t visits = ctx.nodeVisits;
+  BOOST_TEST(a.occluded(through(8.7f), ctx));
+  BOOST_TEST(ctx.nodeVisits == visits);
+  // Rays the hint's triangle does not block still get the walk's answer.
+  BOOST_TEST(a.occluded(through(0.5f), ctx));
+  BOOST_TEST(!a.occluded(through(1.5f), ctx));
+
+  // A hint names an instance record of one build: another scene with one instance, and the
+  // same scene after a commit that moved the blocker, must not take it.
+  BOOST_TEST(a.occluded(through(8.5f), ctx));
+  Scene b;
+  b.createInstance(b.createObject(makeBox()));
+  b.commit();
+  BOOST_TEST(!b.occluded(through(8.5f), ctx));
+  BOOST_TEST(b.occluded(through(0.5f), ctx));
+  BOOST_TEST(a.occluded(through(8.5f), ctx));
+  a.setInstanceTransform(row[4], Affine3d::translation({20, 0, 0}));
+  a.commit();
+  BOOST_TEST(!a.occluded(through(8.5f), ctx));
+
+  // Packets with a context carried from ray to ray answer as fresh single rays do.
+  std::vector<Ray> rays;
+  for (int i = 0; i < 64; ++i) rays.push_back(through(-0.5f + 0.17f * static_cast<float>(i)));
+  std::vector<std::uint8_t> packets(rays.size());
+  for (int pass = 0; pass < 2; ++pass) {
+    a.occluded(std::span<const Ray>(rays), std::span<std::uint8_t>(packets), ctx);
+    for (std::size_t i = 0; i < rays.size(); ++i)
+      BOOST_TEST(static_cast<bool>(packets[i]) == a.occluded(rays[i]), "ray " << i);
+  }
 }

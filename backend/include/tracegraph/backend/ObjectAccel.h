@@ -121,6 +121,21 @@ struct TraversalContext {
   Mailbox instanceMailbox;          ///< instances tested by the top level for this ray
   std::uint64_t triangleTests = 0;  ///< statistics: watertight tests performed
   std::uint64_t nodeVisits = 0;     ///< statistics: accelerator nodes visited
+  /// The triangle that blocked the last occluded ray, which the next any-hit query of the same
+  /// top-level build tests before its walk: shadow rays of neighbouring pixels towards one
+  /// light are mostly blocked by the same triangle. Only a hint: a query answers "occluded"
+  /// from it only when that triangle's own exact test says so, and the walk would then have
+  /// found the ray occluded too, so answers never depend on it.
+  struct OccluderHint {
+    std::uint64_t build = 0;      ///< the top-level build it refers to (0: none)
+    std::uint32_t instance = 0;   ///< index of the instance record in that build
+    std::uint32_t primitive = 0;  ///< the object accelerator's own index of the triangle
+  };
+  /// The hint of the last occluded ray (see OccluderHint).
+  OccluderHint occluder;
+  /// Written by object accelerators' any-hit queries: their own index of the triangle that
+  /// blocked the ray (ObjectAccel::occludedByPrimitive takes it back).
+  std::uint32_t occludingPrimitive = 0;
 };
 
 /// An object-level accelerator over one triangle mesh, in the mesh's own (object) space.
@@ -154,6 +169,13 @@ class ObjectAccel {
   virtual bool intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const = 0;
   /// Any hit in [tnear, tfar].
   virtual bool occluded(const ObjectRay& ray, TraversalContext& ctx) const = 0;
+  /// Any hit in [tnear, tfar] of the one triangle `primitive` (the accelerator's own index, as
+  /// its any-hit queries leave it in TraversalContext::occludingPrimitive), by the exact test
+  /// of those queries, so that true here means occluded() is true too. False for an index out
+  /// of range, and always false by default (accelerators that leave no index).
+  virtual bool occludedByPrimitive(const ObjectRay& /*ray*/, std::uint32_t /*primitive*/) const {
+    return false;
+  }
   /// Closest hits of the lanes in `lanes`: for each lane i, exactly what
   /// intersect(packet.rays[i], hits[i], ctx) gives. Returns the lanes whose hit changed.
   /// Accelerators with a packet walk trace lanes whose direction signs agree together and the
