@@ -380,7 +380,10 @@ int runReport(const CommonOptions& common, const ReportOptions& options) {
             "Closest-hit (primary) and any-hit (shadow) rays; Tracegraph traces single rays and "
             "8-wide packets (tracegraph-bvh-packets, whose answers must equal the single rays': "
             "single_ray_mismatches), Embree single rays (intersect1) and 8-wide packets "
-            "(intersect8).",
+            "(intersect8). Our any-hit queries first test the triangle that blocked the previous "
+            "ray of the same context (neighbouring shadow rays share blockers); "
+            "tracegraph-bvh-unhinted traces every shadow ray as if alone, the walk without that "
+            "hint.",
             {},
             {}};
     suiteCommon.reps = plan.traceReps;

@@ -149,6 +149,8 @@ void throughput(const std::vector<const BenchRow*>& rows, std::vector<Line>& out
     const std::string label = "6. " + shortCase(c);
     const BenchRow* single = rowOf(rows, c, shadow ? "embree-occluded1" : "embree-intersect1");
     throughputLine(label, rowOf(rows, c, "tracegraph-bvh"), single, out);
+    // Shadow rays without the occluder hint of their neighbours: the walk alone.
+    if (shadow) throughputLine(label, rowOf(rows, c, "tracegraph-bvh-unhinted"), single, out);
     throughputLine(label, rowOf(rows, c, "tracegraph-bvh-packets"),
                    shadow ? single : rowOf(rows, c, "embree-intersect8"), out);
   }

@@ -40,10 +40,17 @@ void traceOurs(const Scene& scene, std::span<const Ray> rays, std::span<RayOutco
   });
 }
 
-void occludedOurs(const Scene& scene, std::span<const Ray> rays, std::span<std::uint8_t> out) {
+/// Any hit per ray, the rays of a task through one context. Without `hints`, every ray starts
+/// with no occluder hint (TraversalContext::occluder), as if traced alone: what the engine's
+/// walk costs without the coherence of neighbouring rays.
+void occludedOurs(const Scene& scene, std::span<const Ray> rays, std::span<std::uint8_t> out,
+                  bool hints = true) {
   parallelOverRays(rays.size(), [&](std::size_t begin, std::size_t end) {
     TraversalContext ctx;
-    for (std::size_t i = begin; i < end; ++i) out[i] = scene.occluded(rays[i], ctx) ? 1 : 0;
+    for (std::size_t i = begin; i < end; ++i) {
+      if (!hints) ctx.occluder = {};
+      out[i] = scene.occluded(rays[i], ctx) ? 1 : 0;
+    }
   });
 }
 
@@ -219,7 +226,7 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
   // writes its own answers, so that the rows can be timed in interleaved rounds and compared
   // afterwards.
   std::vector<RayOutcome> ours(n), kdOutcomes(n), packetOutcomes(n);
-  std::vector<std::uint8_t> oursOccluded(n), kdOccluded(n), packetOccluded(n);
+  std::vector<std::uint8_t> oursOccluded(n), kdOccluded(n), packetOccluded(n), unhinted(n);
   std::vector<TimedRow> rows;
   const auto add = [&](const std::string& impl, std::function<void()> trace,
                        std::function<void(BenchRow&)> finish) {
@@ -259,6 +266,19 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
           });
     }
   }
+
+  // Shadow rays also one by one as if each were alone: the default engine's any-hit walk
+  // without the occluder hint that neighbouring rays leave (their answers are the same).
+  if (shadow)
+    add(
+        "tracegraph-bvh-unhinted", [&] { occludedOurs(scene, rays, unhinted, false); },
+        [&](BenchRow& row) {
+          countOccluded(row, unhinted);
+          row.extra.push_back(intField(
+              "single_ray_mismatches",
+              static_cast<std::int64_t>(compareOcclusion(oursOccluded, unhinted).hitMiss)));
+          judgeAny(row, unhinted);
+        });
 
   // Packets of 8 (the BVH engine; the kd engine would trace every lane alone), rows named
   // after the SIMD kernel in use. Their answers must equal the single-ray walk's.
