@@ -335,28 +335,37 @@ Bvh4Ray boxRayOf(const ObjectRay& ray) {
 
 }  // namespace
 
-bool BvhAccel::intersectSubtree(ObjectRay& ray, Hit& hit, std::uint32_t node,
-                                TraversalContext& ctx) const {
-  return traverseBvh4From<false>(nodes_, node, 0, boxRayOf(ray), ray.tfar, ctx.nodeVisits,
+bool BvhAccel::intersectSubtree(ObjectRay& ray, Hit& hit, std::uint32_t child,
+                                std::uint32_t leafCount, TraversalContext& ctx) const {
+  return traverseBvh4From<false>(nodes_, child, leafCount, boxRayOf(ray), ray.tfar, ctx.nodeVisits,
                                  [&](std::uint32_t first, std::uint32_t count) {
                                    return intersectLeaf(ray, hit, first, count, ctx);
                                  });
 }
 
-bool BvhAccel::occludedSubtree(const ObjectRay& ray, std::uint32_t node,
+bool BvhAccel::occludedSubtree(const ObjectRay& ray, std::uint32_t child, std::uint32_t leafCount,
                                TraversalContext& ctx) const {
-  return traverseBvh4From<true>(nodes_, node, 0, boxRayOf(ray), ray.tfar, ctx.nodeVisits,
+  return traverseBvh4From<true>(nodes_, child, leafCount, boxRayOf(ray), ray.tfar, ctx.nodeVisits,
                                 [&](std::uint32_t first, std::uint32_t count) {
                                   return occludedLeaf(ray, first, count, ctx);
                                 });
 }
 
 bool BvhAccel::intersect(ObjectRay& ray, Hit& hit, TraversalContext& ctx) const {
-  return intersectSubtree(ray, hit, 0, ctx);
+  return intersectSubtree(ray, hit, 0, 0, ctx);
 }
 
 bool BvhAccel::occluded(const ObjectRay& ray, TraversalContext& ctx) const {
-  return occludedSubtree(ray, 0, ctx);
+  return occludedSubtree(ray, 0, 0, ctx);
+}
+
+int BvhAccel::subtreeChildren(const BvhSubtree& t, BvhSubtree out[4]) const {
+  if (t.count != 0 || t.child >= nodes_.size()) return 0;
+  const Bvh4Node& node = nodes_[t.child];
+  int n = 0;
+  for (int s = 0; s < 4; ++s)
+    if (node.child[s] != kInvalidId) out[n++] = {node.slotBounds(s), node.child[s], node.count[s]};
+  return n;
 }
 
 namespace {
@@ -468,7 +477,7 @@ unsigned occludedPacketLeaf(void* user, std::uint32_t first, std::uint32_t count
 
 unsigned intersectSingleLane(void* user, std::uint32_t child, unsigned lane, PacketBoxRays& rays) {
   auto& c = *static_cast<ClosestLeafContext*>(user);
-  if (c.accel->intersectSubtree(c.packet->rays[lane], c.hits[lane], child, *c.ctx)) {
+  if (c.accel->intersectSubtree(c.packet->rays[lane], c.hits[lane], child, 0, *c.ctx)) {
     rays.tfar[lane] = c.packet->rays[lane].tfar;
     c.changed |= 1u << lane;
   }
@@ -477,7 +486,7 @@ unsigned intersectSingleLane(void* user, std::uint32_t child, unsigned lane, Pac
 
 unsigned occludedSingleLane(void* user, std::uint32_t child, unsigned lane, PacketBoxRays&) {
   const auto& c = *static_cast<const OccludedLeafContext*>(user);
-  return c.accel->occludedSubtree(c.packet->rays[lane], child, *c.ctx) ? 1u : 0u;
+  return c.accel->occludedSubtree(c.packet->rays[lane], child, 0, *c.ctx) ? 1u : 0u;
 }
 
 }  // namespace
@@ -552,10 +561,18 @@ void BvhAccel::loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, un
 }
 
 unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays,
-                                         unsigned lanes, Hit* hits, TraversalContext& ctx) const {
+                                         unsigned lanes, Hit* hits, TraversalContext& ctx,
+                                         const BvhSubtree& root) const {
   if (lanes == 0 || nodes_.empty()) return 0;
-  if (laneCount(lanes) < kMinPacketLanes)
-    return ObjectAccel::intersectPacket(packet, lanes, hits, ctx);
+  if (laneCount(lanes) < kMinPacketLanes) {
+    unsigned changed = 0;
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      if (intersectSubtree(packet.rays[l], hits[l], root.child, root.count, ctx))
+        changed |= 1u << l;
+    }
+    return changed;
+  }
   ClosestLeafContext c;
   c.accel = this;
   c.ctx = &ctx;
@@ -563,23 +580,31 @@ unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays&
   c.kernels = &activePacketKernels();
   c.packet = &packet;
   c.hits = hits;
-  c.kernels->traverse(nodes_.data(), rays.box, lanes, false, &intersectPacketLeaf,
-                      &intersectSingleLane, &c, ctx.nodeVisits);
+  c.kernels->traverse(nodes_.data(), root.child, root.count, rays.box, lanes, false,
+                      &intersectPacketLeaf, &intersectSingleLane, &c, ctx.nodeVisits);
   return c.changed;
 }
 
 unsigned BvhAccel::occludedLoadedPacket(const ObjectRayPacket& packet, BvhPacketRays& rays,
-                                        unsigned lanes, TraversalContext& ctx) const {
+                                        unsigned lanes, TraversalContext& ctx,
+                                        const BvhSubtree& root) const {
   if (lanes == 0 || nodes_.empty()) return 0;
-  if (laneCount(lanes) < kMinPacketLanes) return ObjectAccel::occludedPacket(packet, lanes, ctx);
+  if (laneCount(lanes) < kMinPacketLanes) {
+    unsigned blocked = 0;
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      if (occludedSubtree(packet.rays[l], root.child, root.count, ctx)) blocked |= 1u << l;
+    }
+    return blocked;
+  }
   OccludedLeafContext c;
   c.accel = this;
   c.ctx = &ctx;
   c.rays = &rays;
   c.kernels = &activePacketKernels();
   c.packet = &packet;
-  return c.kernels->traverse(nodes_.data(), rays.box, lanes, true, &occludedPacketLeaf,
-                             &occludedSingleLane, &c, ctx.nodeVisits);
+  return c.kernels->traverse(nodes_.data(), root.child, root.count, rays.box, lanes, true,
+                             &occludedPacketLeaf, &occludedSingleLane, &c, ctx.nodeVisits);
 }
 
 unsigned BvhAccel::intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit* hits,

@@ -27,6 +27,15 @@ struct BvhPacketRays {
   unsigned filtered = 0;
 };
 
+/// A part of a BvhAccel's tree that a top-level walk may enter directly, in place of the whole
+/// object (partial re-braiding, Benthin et al. 2017): inner node `child` when `count` is 0, else
+/// the leaf of `count` triangles at `child`.
+struct BvhSubtree {
+  Box3f bounds;             ///< the subtree's box (object space)
+  std::uint32_t child = 0;  ///< node index (inner) or first triangle (leaf)
+  std::uint32_t count = 0;  ///< triangles of a leaf; 0 for an inner node
+};
+
 /// A BVH4 over one mesh. Leaves hold up to a few triangles, copied contiguously in leaf order
 /// for the same watertight test the kd-trees use, so hits are identical whichever accelerator
 /// found them.
@@ -64,11 +73,17 @@ class BvhAccel final : public ObjectAccel {
                                  BvhPacketRays& out);
   /// intersectPacket for lanes already loaded: `lanes` lie in rays.coherent, and rays.box.tfar
   /// of each equals its packet ray's tfar. Returns the lanes whose hit changed.
+  /// `root` limits the walk to one subtree (BvhSubtree); the default is the whole tree.
   unsigned intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned lanes,
-                                 Hit* hits, TraversalContext& ctx) const;
+                                 Hit* hits, TraversalContext& ctx,
+                                 const BvhSubtree& root = {}) const;
   /// occludedPacket for lanes already loaded (see intersectLoadedPacket).
   unsigned occludedLoadedPacket(const ObjectRayPacket& packet, BvhPacketRays& rays, unsigned lanes,
-                                TraversalContext& ctx) const;
+                                TraversalContext& ctx, const BvhSubtree& root = {}) const;
+
+  /// The children of subtree `t` into `out`, with their boxes; returns how many (0 for a leaf,
+  /// and for a tree without nodes). BvhSubtree{} is the whole tree, whose root is node 0.
+  int subtreeChildren(const BvhSubtree& t, BvhSubtree out[4]) const;
 
   /// Closest-hit test of one ray against the triangles [first, first + count) of a leaf; the
   /// leaf test of both the single-ray and the packet walk, so that both find the same hits.
@@ -77,10 +92,13 @@ class BvhAccel final : public ObjectAccel {
   /// Any-hit test of one ray against a leaf's triangles.
   bool occludedLeaf(const ObjectRay& ray, std::uint32_t first, std::uint32_t count,
                     TraversalContext& ctx) const;
-  /// Closest hit of one ray in the subtree rooted at inner node `node` (the single-ray walk).
-  bool intersectSubtree(ObjectRay& ray, Hit& hit, std::uint32_t node, TraversalContext& ctx) const;
-  /// Any hit of one ray in the subtree rooted at inner node `node`.
-  bool occludedSubtree(const ObjectRay& ray, std::uint32_t node, TraversalContext& ctx) const;
+  /// Closest hit of one ray in the subtree (child, count) (the single-ray walk; see
+  /// BvhSubtree for the pair).
+  bool intersectSubtree(ObjectRay& ray, Hit& hit, std::uint32_t child, std::uint32_t count,
+                        TraversalContext& ctx) const;
+  /// Any hit of one ray in the subtree (child, count).
+  bool occludedSubtree(const ObjectRay& ray, std::uint32_t child, std::uint32_t count,
+                       TraversalContext& ctx) const;
   /// Closest-hit test of one ray against triangle `k` (leaf order), with the same answers as
   /// intersectLeaf's step (which reads the ray's axis permutation as constants): the packet
   /// leaves' test for lanes the SIMD test does not decide.

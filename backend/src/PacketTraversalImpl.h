@@ -47,9 +47,9 @@ struct ScalarLaneOps {
 /// smallest entry distance of its lanes), with each lane leaving a subtree whose entry lies
 /// beyond its own closest hit, as the single-ray walk does.
 template <class NodeTest>
-unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lanes, bool anyHit,
-                        PacketLeafFn leaf, PacketSingleFn single, void* user,
-                        std::uint64_t& nodeVisits) {
+unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
+                        PacketBoxRays& rays, unsigned lanes, bool anyHit, PacketLeafFn leaf,
+                        PacketSingleFn single, void* user, std::uint64_t& nodeVisits) {
   struct Entry {
     std::uint32_t child, count;
     unsigned lanes;
@@ -60,7 +60,7 @@ unsigned traversePacket(const Bvh4Node* nodes, PacketBoxRays& rays, unsigned lan
   // Per-walk state of the node test: what of the rays stays fixed during the walk (all but tfar).
   const NodeTest nodeTest(rays);
   unsigned active = lanes, occluded = 0;
-  std::uint32_t child = 0, count = 0;
+  std::uint32_t child = rootChild, count = rootCount;
   unsigned current = lanes;
   for (;;) {
     if (count == 0 && (current & (current - 1)) == 0) {

@@ -2,8 +2,10 @@
 // callers create it through createTopLevelAccel.
 #pragma once
 
+#include <utility>
 #include <vector>
 
+#include "BvhAccel.h"
 #include "BvhBuilder.h"
 #include "TopLevelBvhBuilder.h"
 #include "tracegraph/backend/TopLevelAccel.h"
@@ -14,9 +16,16 @@ namespace tg::detail {
 ///
 /// Same answers as TopLevelKdTree: every instance whose box the ray reaches before the closest
 /// hit is intersected through intersectInstance, which applies the tie rule (hitPrecedes). Each
-/// instance sits in exactly one leaf, so no instance mailbox is needed. The builder bins in
-/// parallel for large scenes and keeps its buffers between builds, so a per-frame rebuild does
-/// not allocate once the scene has stopped growing.
+/// instance sits in exactly one leaf, so no instance mailbox is needed.
+///
+/// In scenes of up to a thousand instances, identity instances of BVH objects (the static
+/// geometry) are entered by subtree: their widest subtrees stand in the top level for the
+/// whole object, up to twice as many entries as instances, so that a ray skips the parts of
+/// static chunks it does not reach without entering each chunk's root, and overlapping chunks
+/// are walked in one front-to-back order. The subtrees are disjoint and together hold the
+/// object's triangles, so each triangle is still tested through exactly one leaf entry. The builder
+/// bins in parallel for large scenes and keeps its buffers between builds, so a per-frame rebuild
+/// does not allocate once the scene has stopped growing.
 class TopLevelBvh final : public TopLevelAccel {
  public:
   TopLevelKind kind() const override { return TopLevelKind::Bvh; }
@@ -43,8 +52,30 @@ class TopLevelBvh final : public TopLevelAccel {
   /// build (or scene) is never taken for one of this.
   std::uint64_t buildId_ = 0;
   BvhBuildResult bvh_;
-  std::vector<std::uint32_t> refs_;  ///< instance indices in leaf order
-  std::vector<BvhPrim> prims_;       ///< build scratch
+  /// What a leaf entry enters: a whole instance, or one subtree of the BVH of an identity
+  /// instance (static geometry), whose box then stands in the top level for its own.
+  struct Ref {
+    std::uint32_t instance = 0;        ///< index of the instance record
+    std::uint32_t child = kInvalidId;  ///< the subtree (BvhSubtree); kInvalidId: whole instance
+    std::uint32_t count = 0;
+  };
+  /// Closest hit of `ray` (which `enter` enters instances with) in what `ref` names.
+  bool intersectRef(const Ref& ref, InstanceEntry& enter, const Ray& ray, Hit& hit,
+                    TraversalContext& ctx) const;
+  /// Any hit of `ray` in what `ref` names; records the occluder (rememberOccluder).
+  bool occludedRef(const Ref& ref, InstanceEntry& enter, const Ray& ray,
+                   TraversalContext& ctx) const;
+  /// Replaces the primitives of identity instances of BvhAccels by subtrees, widest first,
+  /// within kOpenedEntriesPerInstance entries per primitive, and fills opened_: the
+  /// primitives' ids then index opened_.
+  void openIdentityInstances();
+
+  std::vector<Ref> refs_;             ///< leaf order
+  std::vector<Ref> opened_;           ///< build scratch: what the primitives' ids name
+  std::vector<BvhSubtree> subtrees_;  ///< build scratch
+  std::vector<BvhPrim> prims_;        ///< build scratch
+  std::vector<BvhPrim> openedPrims_;
+  std::vector<std::pair<float, std::uint32_t>> openHeap_;  ///< build scratch  ///< build scratch
   TopLevelBvhBuilder builder_;
   TopLevelStats stats_;
 };

@@ -232,6 +232,53 @@ BOOST_AUTO_TEST_CASE(many_instances_match_reference) {
   checkScene(scene, makeRays(rng, scene.bounds(), 400), "12000 instances", 40);
 }
 
+BOOST_AUTO_TEST_CASE(identity_instances_are_entered_by_subtree_with_unchanged_answers) {
+  // Static geometry is identity instances of BVH objects (overlapping chunks, as the scene
+  // graph makes them): the top level holds their subtrees, up to two entries per instance, and
+  // answers stay the reference's, for single rays and for packets.
+  std::mt19937 rng(31);
+  Scene scene(optionsFor(AccelKind::Bvh, TopLevelKind::Bvh));
+  std::vector<Vec3f> targets;
+  for (int o = 0; o < 3; ++o) {
+    const TriangleMesh mesh = makeRandomTriangles(rng, 400, -4.0f + 1.5f * float(o), 4.0f, 0.5f);
+    scene.createInstance(scene.createObject(mesh));
+    targets.insert(targets.end(), mesh.positions.begin(), mesh.positions.end());
+  }
+  scene.createInstance(scene.createObject(makeIcosphere(2)), randomTransform(rng, 3.0, true));
+  scene.commit();
+  const TopLevelStats& st = scene.topLevel().stats();
+  BOOST_TEST(st.instances == 4u);
+  BOOST_TEST(st.references > 4u);
+  BOOST_TEST(st.references <= 8u);
+  checkScene(scene, makeRays(rng, scene.bounds(), 3000, targets), "subtree entries", 300);
+
+  // A pinhole grid, so that neighbouring rays share direction signs and walk as packets.
+  std::vector<Ray> rays;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const Vec3f origin{0.1f, 0.2f, 12.0f};
+      const Vec3f target{-5.0f + 10.0f * float(x) / 63.0f, -5.0f + 10.0f * float(y) / 63.0f, -5.0f};
+      rays.push_back(Ray{origin, 0.0f, target - origin, kInfinity});
+    }
+  std::vector<Hit> packetHits(rays.size());
+  std::vector<std::uint8_t> packetOccluded(rays.size());
+  TraversalContext ctx;
+  scene.intersect(rays, packetHits, ctx);
+  scene.occluded(rays, packetOccluded, ctx);
+  std::size_t hits = 0, mismatches = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    Hit hit;
+    const bool found = scene.intersect(rays[i], hit);
+    hits += found ? 1 : 0;
+    if (hit.t != packetHits[i].t || hit.primId != packetHits[i].primId ||
+        hit.instanceId != packetHits[i].instanceId ||
+        scene.occluded(rays[i]) != (packetOccluded[i] != 0))
+      ++mismatches;
+  }
+  BOOST_TEST(hits > rays.size() / 4);
+  BOOST_TEST(mismatches == 0u);
+}
+
 BOOST_AUTO_TEST_CASE(refit_equals_rebuild_after_vertex_moves) {
   std::mt19937 rng(25);
   const TriangleMesh base = makeTorus(2.0, 0.6, 96, 48);  // 9216 triangles: parallel refit path

@@ -133,9 +133,9 @@ class InstanceEntry {
     return inst.accel->occluded(identityRay(inst, ray_.tfar), ctx);
   }
 
- private:
   /// objectRayFor(inst, ray, tfar) for an identity instance: accelerators change only tfar of
   /// the rays they are given (ObjectAccel::intersect), so the rest is still the world ray's.
+  /// For top levels that enter parts of an identity instance's accelerator themselves.
   ObjectRay& identityRay(const InstanceRecord& inst, float tfar) {
     if (!identity_) {
       identity_.emplace(ray_.origin, ray_.direction, ray_.tnear, tfar, inst.instanceId,
@@ -148,6 +148,7 @@ class InstanceEntry {
     return *identity_;
   }
 
+ private:
   const Ray& ray_;
   /// Made at the first identity instance (std::optional: rays that enter none pay nothing).
   std::optional<ObjectRay> identity_;
