@@ -16,16 +16,18 @@ namespace tg::detail {
 ///
 /// Same answers as TopLevelKdTree: every instance whose box the ray reaches before the closest
 /// hit is intersected through intersectInstance, which applies the tie rule (hitPrecedes). Each
-/// instance sits in exactly one leaf, so no instance mailbox is needed.
+/// instance, or each subtree of one (below), sits in exactly one leaf, so no instance mailbox
+/// is needed.
 ///
 /// In scenes of up to a thousand instances, identity instances of BVH objects (the static
 /// geometry) are entered by subtree: their widest subtrees stand in the top level for the
 /// whole object, up to twice as many entries as instances, so that a ray skips the parts of
 /// static chunks it does not reach without entering each chunk's root, and overlapping chunks
 /// are walked in one front-to-back order. The subtrees are disjoint and together hold the
-/// object's triangles, so each triangle is still tested through exactly one leaf entry. The builder
-/// bins in parallel for large scenes and keeps its buffers between builds, so a per-frame rebuild
-/// does not allocate once the scene has stopped growing.
+/// object's triangles, so each triangle is still tested through exactly one leaf entry.
+///
+/// The builder bins in parallel for large scenes and keeps its buffers between builds, so a
+/// per-frame rebuild does not allocate once the scene has stopped growing.
 class TopLevelBvh final : public TopLevelAccel {
  public:
   TopLevelKind kind() const override { return TopLevelKind::Bvh; }
@@ -72,10 +74,9 @@ class TopLevelBvh final : public TopLevelAccel {
 
   std::vector<Ref> refs_;             ///< leaf order
   std::vector<Ref> opened_;           ///< build scratch: what the primitives' ids name
-  std::vector<BvhSubtree> subtrees_;  ///< build scratch
   std::vector<BvhPrim> prims_;        ///< build scratch
-  std::vector<BvhPrim> openedPrims_;
-  std::vector<std::pair<float, std::uint32_t>> openHeap_;  ///< build scratch  ///< build scratch
+  std::vector<BvhPrim> openedPrims_;  ///< build scratch: prims_ with subtrees
+  std::vector<std::pair<float, std::uint32_t>> openHeap_;  ///< build scratch
   TopLevelBvhBuilder builder_;
   TopLevelStats stats_;
 };
