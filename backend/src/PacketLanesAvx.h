@@ -19,16 +19,6 @@ struct Avx8LaneOps {
     return _mm256_castsi256_ps(_mm256_cmpeq_epi32(
         _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(mask)), bits), bits));
   }
-  /// Smallest entry[l] over the lanes l in `mask` (not empty). The lanes of a hit slot hold no
-  /// NaN (their entry passed tmin <= tmax), so MINPS gives the scalar loop's value.
-  static float minEntry(const float* entry, unsigned mask) {
-    const __m256 inf = _mm256_set1_ps(__builtin_inff());
-    __m256 v = _mm256_blendv_ps(inf, _mm256_loadu_ps(entry), laneMask(mask));
-    v = _mm256_min_ps(v, _mm256_permute2f128_ps(v, v, 1));
-    v = _mm256_min_ps(v, _mm256_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
-    v = _mm256_min_ps(v, _mm256_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
-    return _mm256_cvtss_f32(v);
-  }
   /// The lanes l of `mask` whose entry[l] lies beyond tfar[l] (ordered compare: false for NaN).
   static unsigned beyond(const float* entry, const float* tfar, unsigned mask) {
     const __m256 gt = _mm256_cmp_ps(_mm256_loadu_ps(entry), _mm256_loadu_ps(tfar), _CMP_GT_OQ);
