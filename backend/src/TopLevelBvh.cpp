@@ -148,7 +148,7 @@ void TopLevelBvh::openIdentityInstances() {
     const Ref ref = opened_[index];
     const auto& bvh = static_cast<const BvhAccel&>(*instances_[ref.instance].accel);
     BvhSubtree children[4];
-    const int n = bvh.subtreeChildren(BvhSubtree{{}, ref.child, ref.count}, children);
+    const int n = bvh.subtreeChildren(ref.subtree(), children);
     if (n == 0) continue;
     if (opened_.size() + static_cast<std::size_t>(n) - 1 > budget) break;
     for (int c = 0; c < n; ++c) {
@@ -256,10 +256,6 @@ class UninitialisedObjectPacket {
 /// one only rewrites tfar and the ids.
 struct TopLevelPacketWalk {
   using Ref = TopLevelBvh::Ref;
-  /// The part of an identity instance's BVH that `ref` names (the whole tree for a whole one).
-  static BvhSubtree subtreeOf(const Ref& ref) {
-    return ref.child == kInvalidId ? BvhSubtree{} : BvhSubtree{{}, ref.child, ref.count};
-  }
 
   TopLevelPacketWalk(const TopLevelBvh* top_, const Ray* rays_, Hit* hits_, TraversalContext* ctx_)
       : top(top_), rays(rays_), hits(hits_), ctx(ctx_) {}
@@ -347,9 +343,16 @@ struct TopLevelPacketWalk {
       if (inst.identity && isBvhAccel(*inst.accel)) {
         BvhPacketRays& loaded = w.identityBvhRays(lanes, boxRays);
         const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+        const BvhSubtree root = ref.subtree();
         changed = bvh.intersectLoadedPacket(packet, loaded, lanes & loaded.coherent, w.hits, *w.ctx,
-                                            subtreeOf(ref)) |
-                  bvh.intersectPacket(packet, lanes & ~loaded.coherent, w.hits, *w.ctx);
+                                            root);
+        // Lanes the packet test does not take walk the same subtree alone (none today: the
+        // identity packet loads every lane of the walk).
+        for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
+          const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+          if (bvh.intersectSubtree(packet.rays[l], w.hits[l], root.child, root.count, *w.ctx))
+            changed |= 1u << l;
+        }
       } else {
         changed = inst.accel->intersectPacket(packet, lanes, w.hits, *w.ctx);
       }
@@ -374,9 +377,13 @@ struct TopLevelPacketWalk {
       if (inst.identity && isBvhAccel(*inst.accel)) {
         BvhPacketRays& loaded = w.identityBvhRays(lanes, boxRays);
         const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
-        found = bvh.occludedLoadedPacket(packet, loaded, lanes & loaded.coherent, *w.ctx,
-                                         subtreeOf(ref)) |
-                bvh.occludedPacket(packet, lanes & ~loaded.coherent, *w.ctx);
+        const BvhSubtree root = ref.subtree();
+        found = bvh.occludedLoadedPacket(packet, loaded, lanes & loaded.coherent, *w.ctx, root);
+        // As in intersectLeaf: lanes outside the packet test walk the subtree alone.
+        for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
+          const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+          if (bvh.occludedSubtree(packet.rays[l], root.child, root.count, *w.ctx)) found |= 1u << l;
+        }
       } else {
         found = inst.accel->occludedPacket(packet, lanes, *w.ctx);
       }

@@ -60,6 +60,10 @@ class TopLevelBvh final : public TopLevelAccel {
     std::uint32_t instance = 0;        ///< index of the instance record
     std::uint32_t child = kInvalidId;  ///< the subtree (BvhSubtree); kInvalidId: whole instance
     std::uint32_t count = 0;
+    /// The part of the instance's BVH this entry enters: its root for a whole instance.
+    BvhSubtree subtree() const {
+      return child == kInvalidId ? BvhSubtree{} : BvhSubtree{{}, child, count};
+    }
   };
   /// Closest hit of `ray` (which `enter` enters instances with) in what `ref` names.
   bool intersectRef(const Ref& ref, InstanceEntry& enter, const Ray& ray, Hit& hit,
