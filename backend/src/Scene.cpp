@@ -87,6 +87,9 @@ struct Scene::Impl {
   std::vector<Object> objects;
   std::vector<Instance> instances;
   std::vector<InstanceRecord> records;
+  /// Record index of each instance id when records has gaps closed (some instance dead or of
+  /// an empty object); empty when record k is instance k's.
+  std::vector<std::uint32_t> recordOfInstance;
   std::unique_ptr<TopLevelAccel> topLevel;
   bool instancesDirty = true;
   std::size_t pendingInstanceUpdates = 0;
@@ -100,6 +103,12 @@ struct Scene::Impl {
     if (id >= instances.size() || !instances[id].alive)
       throw Error(std::string(call) + ": unknown instance id " + std::to_string(id));
     return instances[id];
+  }
+  /// World to object of instance `id` as last committed (the queries' state: the instance's
+  /// own matrices may already hold an uncommitted edit). `id` must be of a committed record,
+  /// as the instance id of a hit is.
+  const Affine3d& committedWorldToObject(std::uint32_t id) const {
+    return records[recordOfInstance.empty() ? id : recordOfInstance[id]].worldToObjectD;
   }
   static void checkMesh(const TriangleMesh& mesh, const char* call) {
     const std::string problem = mesh.validate();
@@ -336,8 +345,12 @@ CommitStats Scene::commit() {
     } else {
       kept = fill(0, count);
     }
+    s.recordOfInstance.clear();
     if (kept != count) {
       std::erase_if(s.records, [](const InstanceRecord& r) { return r.accel == nullptr; });
+      s.recordOfInstance.assign(count, kInvalidId);
+      for (std::size_t k = 0; k < s.records.size(); ++k)
+        s.recordOfInstance[s.records[k].instanceId] = static_cast<std::uint32_t>(k);
     }
     s.topLevel->build(s.records);
     stats.topLevelRebuilt = true;
@@ -418,7 +431,7 @@ void Scene::fillGeometricNormal(Hit& hit) const {
   // the mesh here would cost cache misses on every hit. Mapped in double: the inverse transpose
   // keeps it perpendicular under non-uniform scale and points it to the same side of the
   // surface after a mirroring (negative determinant) transform.
-  const Affine3d* worldToObject = &impl_->instances[hit.instanceId].worldToObject;
+  const Affine3d* worldToObject = &impl_->committedWorldToObject(hit.instanceId);
   Hit* one = &hit;
   mapNormals(&worldToObject, &one, 1);
 }
@@ -460,7 +473,7 @@ void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalC
     std::size_t count = 0;
     for (std::size_t l = 0; l < n; ++l)
       if (packetHits[l].valid()) {
-        worldToObject[count] = &impl_->instances[packetHits[l].instanceId].worldToObject;
+        worldToObject[count] = &impl_->committedWorldToObject(packetHits[l].instanceId);
         hit[count++] = &packetHits[l];
       }
     mapNormals(worldToObject, hit, count);
@@ -537,8 +550,7 @@ Scene::SurfaceData Scene::surfaceAt(const Ray& ray, const Hit& hit) const {
   const float w = 1.0f - hit.u - hit.v;
   if (!mesh.normals.empty()) {
     const Vec3f n = mesh.normals[i0] * w + mesh.normals[i1] * hit.u + mesh.normals[i2] * hit.v;
-    const Vec3d world =
-        impl_->instances[hit.instanceId].worldToObject.transformTransposed(Vec3d(n));
+    const Vec3d world = impl_->committedWorldToObject(hit.instanceId).transformTransposed(Vec3d(n));
     const double len = length(world);
     if (len > 0.0) {
       sd.shadingNormal = Vec3f(world / len);

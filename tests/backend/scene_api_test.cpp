@@ -103,14 +103,36 @@ BOOST_AUTO_TEST_CASE(unknown_ids_and_bad_matrices_are_rejected) {
 
 BOOST_AUTO_TEST_CASE(queries_see_only_committed_state) {
   Scene scene;
-  const ObjectId box = scene.createObject(makeBox());
+  // Vertex normals along z, so that surfaceAt's shading normal shows which matrix mapped it.
+  TriangleMesh mesh = makeBox();
+  mesh.normals.assign(mesh.positions.size(), Vec3f(0.0f, 0.0f, -1.0f));
+  const ObjectId box = scene.createObject(mesh);
+  // A destroyed instance before it, so that instance ids and record order differ.
+  scene.destroyInstance(scene.createInstance(box, Affine3d::translation({0, 5, 0})));
   const InstanceId inst = scene.createInstance(box);
   scene.commit();
   const Ray r{{0.5f, 0.5f, -1.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, kInfinity};
   Hit hit;
   BOOST_TEST(scene.intersect(r, hit));
-  scene.setInstanceTransform(inst, Affine3d::translation({10, 0, 0}));
+  const Vec3f committedNormal = hit.geometricNormal;
+  BOOST_TEST(std::abs(committedNormal.z) == 1.0f);
+  // A pending rotation changes neither the hit nor its normal, by single ray or by packet.
+  scene.setInstanceTransform(inst, Affine3d::rotation(Vec3d(1, 0, 0), 90.0));
   BOOST_TEST(scene.hasPendingChanges());
+  BOOST_TEST(scene.intersect(r, hit));
+  BOOST_TEST(hit.geometricNormal.x == committedNormal.x);
+  BOOST_TEST(hit.geometricNormal.y == committedNormal.y);
+  BOOST_TEST(hit.geometricNormal.z == committedNormal.z);
+  const std::vector<Ray> packet(8, r);
+  std::vector<Hit> packetHits(8);
+  TraversalContext ctx;
+  scene.intersect(packet, packetHits, ctx);
+  for (const Hit& h : packetHits) {
+    BOOST_TEST(h.valid());
+    BOOST_TEST(h.geometricNormal.z == committedNormal.z);
+  }
+  BOOST_TEST(scene.surfaceAt(r, hit).shadingNormal.z == committedNormal.z);
+  scene.setInstanceTransform(inst, Affine3d::translation({10, 0, 0}));
   BOOST_TEST(scene.intersect(r, hit));  // still the committed state
   scene.commit();
   BOOST_TEST(!scene.intersect(r, hit));
