@@ -78,8 +78,6 @@ struct Scene::Impl {
     ObjectId object = kInvalidId;
     Affine3d objectToWorld;
     Affine3d worldToObject;
-    Affine3f objectToWorldF;
-    Affine3f worldToObjectF;
     bool alive = true;
   };
 
@@ -118,13 +116,13 @@ struct Scene::Impl {
     if (!m.isFinite()) throw Error(std::string(call) + ": matrix has NaN or infinite entries");
     const std::optional<Affine3d> inverse = m.inverse();
     if (!inverse) throw Error(std::string(call) + ": matrix is singular (zero scale?)");
+    // Rays and boxes cross between the spaces in float: a matrix that float cannot hold would
+    // send them to infinities.
     const Affine3f toWorldF(m), toObjectF(*inverse);
     if (!toWorldF.isFinite() || !toObjectF.isFinite())
       throw Error(std::string(call) + ": matrix or its inverse exceeds the float range");
     inst.objectToWorld = m;
     inst.worldToObject = *inverse;
-    inst.objectToWorldF = toWorldF;
-    inst.worldToObjectF = toObjectF;
   }
 };
 
@@ -320,8 +318,6 @@ CommitStats Scene::commit() {
         const Box3f objectBounds = obj.accel->bounds();
         if (objectBounds.empty()) continue;  // nothing to hit
         r.accel = obj.accel.get();
-        r.objectToWorld = inst.objectToWorldF;
-        r.worldToObject = inst.worldToObjectF;
         r.worldToObjectD = inst.worldToObject;
         r.identity = inst.objectToWorld == Affine3d::identity();
         r.worldBounds = r.identity ? objectBounds

@@ -20,8 +20,8 @@
 namespace tg::bench {
 namespace {
 
-/// What Scene::commit() derives from an instance before the top-level build: both float
-/// matrices and the world bounds of the object's box.
+/// What Scene::commit() derives from an instance before the top-level build: the inverse
+/// matrix and the world bounds of the object's box.
 void fillRecords(const ObjectAccel& accel, std::span<const Affine3d> placements,
                  std::vector<InstanceRecord>& records) {
   const Box3f b = accel.bounds();
@@ -32,8 +32,7 @@ void fillRecords(const ObjectAccel& accel, std::span<const Affine3d> placements,
     const Box3d world = m.transformBox(objectBounds);
     InstanceRecord& r = records[i];
     r.accel = &accel;
-    r.objectToWorld = Affine3f(m);
-    r.worldToObject = Affine3f(m.inverse().value());
+    r.worldToObjectD = m.inverse().value();
     r.worldBounds = Box3f(Vec3f(world.lower), Vec3f(world.upper));
     r.instanceId = static_cast<std::uint32_t>(i);
     r.objectId = 0;

@@ -37,9 +37,7 @@ Objects makeObjects(std::mt19937& rng, AccelKind kind) {
     inst.identity = identity[i];
     if (!inst.identity) {
       const Affine3d toWorld = randomTransform(rng, 3.0, true);
-      inst.objectToWorld = Affine3f(toWorld);
       inst.worldToObjectD = *toWorld.inverse();
-      inst.worldToObject = Affine3f(inst.worldToObjectD);
     }
     inst.instanceId = 10 + i;
     inst.objectId = i % 2;

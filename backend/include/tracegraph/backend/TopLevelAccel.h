@@ -18,11 +18,8 @@ namespace tg {
 struct InstanceRecord {
   /// The object's accelerator (built).
   const ObjectAccel* accel = nullptr;
-  /// Object to world, rounded to float.
-  Affine3f objectToWorld;
-  /// World to object, inverted in double and rounded to float.
-  Affine3f worldToObject;
-  /// The inverse in double: rays are mapped into object space with it (see intersectInstance).
+  /// World to object, inverted in double: rays are mapped into object space with it (see
+  /// intersectInstance), and hit normals back to world space (Scene::fillGeometricNormal).
   Affine3d worldToObjectD;
   /// Conservative world bounds of the object's triangles.
   Box3f worldBounds;
