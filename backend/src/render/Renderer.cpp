@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <new>
 #include <span>
 #include <string>
 #include <vector>
@@ -84,6 +85,7 @@ struct TileScratch {
   std::vector<std::uint32_t> px, py;
   std::vector<double> planeX, planeY;  ///< Camera::planeX of the tile's columns, planeY of its rows
   std::vector<detail::PixelSample> samples;
+  std::vector<std::uint32_t> blockEnds;  ///< one past the last ray of each 4 x 2 block
   detail::WaveScratch wave;
 };
 
@@ -115,31 +117,39 @@ TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Ca
       scratch.planeX[x - rect.x0] = camera.planeX(static_cast<double>(x) + 0.5);
     for (std::uint32_t y = rect.y0; y < rect.y1; ++y)
       scratch.planeY[y - rect.y0] = camera.planeY(static_cast<double>(y) + 0.5);
-    // Pixels in block order: the rays of one 4 x 2 block are consecutive.
+    // Pixels in block order: the rays of one 4 x 2 block are consecutive. Every ray of the
+    // tile is made before any is traced: rays read back by the packet load right after the
+    // stores that wrote them stalled on those stores.
     std::size_t count = 0;
+    scratch.blockEnds.clear();
     for (std::uint32_t y0 = rect.y0; y0 < rect.y1; y0 += 2) {
       for (std::uint32_t x0 = rect.x0; x0 < rect.x1; x0 += 4) {
-        const std::size_t first = count;
         for (std::uint32_t lane = 0; lane < kRayPacketSize; ++lane) {
           const std::uint32_t x = x0 + lane % 4, y = y0 + lane / 4;
           if (x >= rect.x1 || y >= rect.y1) continue;
           scratch.px[count] = x;
           scratch.py[count] = y;
-          // camera.primaryRay(x, y), bit for bit.
-          scratch.rays[count++] =
-              camera.rayThroughPlane(scratch.planeX[x - rect.x0], scratch.planeY[y - rect.y0]);
+          // camera.primaryRay(x, y), bit for bit, made in place (no temporary to copy).
+          ::new (static_cast<void*>(&scratch.rays[count++]))
+              Ray(camera.rayThroughPlane(scratch.planeX[x - rect.x0], scratch.planeY[y - rect.y0]));
         }
-        scene.intersect(std::span<const Ray>(scratch.rays.data() + first, count - first),
-                        std::span<Hit>(scratch.hits.data() + first, count - first), ctx);
+        scratch.blockEnds.push_back(static_cast<std::uint32_t>(count));
       }
+    }
+    std::size_t first = 0;
+    for (const std::uint32_t end : scratch.blockEnds) {
+      scene.intersect(std::span<const Ray>(scratch.rays.data() + first, end - first),
+                      std::span<Hit>(scratch.hits.data() + first, end - first), ctx);
+      first = end;
     }
     if (shader.shadesByWave()) {
       shader.shadeWhittedTile(scratch.rays.data(), scratch.hits.data(), count, ctx, result.counters,
                               scratch.wave, scratch.samples.data());
     } else {
+      // Made in place: a returned sample copied in was read back before its stores completed.
       for (std::size_t k = 0; k < count; ++k)
-        scratch.samples[k] =
-            shader.shadePrimaryHit(scratch.rays[k], scratch.hits[k], ctx, result.counters);
+        ::new (static_cast<void*>(&scratch.samples[k])) detail::PixelSample(
+            shader.shadePrimaryHit(scratch.rays[k], scratch.hits[k], ctx, result.counters));
     }
     for (std::size_t k = 0; k < count; ++k)
       storeSample(scratch.samples[k], settings.aovs, scratch.px[k], scratch.py[k], frame);

@@ -153,6 +153,9 @@ class Shader {
   /// Fills terms[j] for every light j that may add to the colour at `sh`, as forEachLightTerm
   /// finds them; the others only have their flags cleared.
   void collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms) const;
+  /// sh.color plus every light's term at `sh`, unshadowed (OpenGL mode): what shadeHit sums
+  /// through forEachLightTerm when no light needs a shadow ray.
+  Vec3f unshadowedColor(const SurfaceShading& sh) const;
   /// Number of lights of the scene (point, directional and spot).
   std::size_t lightCount() const;
   /// sh.color plus the reflected and refracted light (Whitted mode).

@@ -94,6 +94,19 @@ Vec3f phong(const Material& m, const Vec3f& diffuse, const Vec3f& n, const Vec3f
   return c;
 }
 
+/// What a directional or spot light adds at `sh` (forEachLightTerm's term), or nothing when it
+/// cannot change the colour there.
+std::optional<Vec3f> otherLightTerm(const SurfaceShading& sh, const LightSample& light) {
+  const float nl = dot(sh.ns, light.direction);
+  if (!sh.material.lit() || isBlack(light.color) || nl <= 0.0f ||
+      dot(sh.ng, light.direction) <= 0.0f)
+    return std::nullopt;
+  const Vec3f local = light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction, nl,
+                                          sh.highlight.cutoff);
+  if (isBlack(local)) return std::nullopt;
+  return local;
+}
+
 #if defined(__SSE2__)
 /// Four floats, one per light of a PointLightQuad. Every operation is the IEEE operation of the
 /// scalar code, lane by lane, so a lane holds bit for bit what the scalar code computes.
@@ -157,6 +170,15 @@ unsigned bits(LaneMask m) {
 /// a where m is true, b elsewhere.
 Lanes select(LaneMask m, Lanes a, Lanes b) {
   return {_mm_or_ps(_mm_and_ps(m.v, a.v), _mm_andnot_ps(m.v, b.v))};
+}
+/// out[j] = (r[j], g[j], b[j], 0): lane j's colour as one 16-byte store.
+void storeColors(Lanes r, Lanes g, Lanes b, std::array<std::array<float, 4>, 4>& out) {
+  __m128 x = r.v, y = g.v, z = b.v, w = _mm_setzero_ps();
+  _MM_TRANSPOSE4_PS(x, y, z, w);
+  _mm_storeu_ps(out[0].data(), x);
+  _mm_storeu_ps(out[1].data(), y);
+  _mm_storeu_ps(out[2].data(), z);
+  _mm_storeu_ps(out[3].data(), w);
 }
 #else
 /// Four floats, one per light of a PointLightQuad (portable fallback of the SSE version).
@@ -230,13 +252,20 @@ unsigned bits(LaneMask m) {
 Lanes select(LaneMask m, Lanes a, Lanes b) {
   return laneWise([&](std::size_t j) { return (m.v >> j & 1u) ? a.v[j] : b.v[j]; });
 }
+void storeColors(Lanes r, Lanes g, Lanes b, std::array<std::array<float, 4>, 4>& out) {
+  for (std::size_t j = 0; j < 4; ++j) out[j] = {r.v[j], g.v[j], b.v[j], 0.0f};
+}
 #endif
 
 /// The Phong terms of the four lights of a quad at one surface point.
 struct QuadTerms {
-  std::array<float, 4> r, g, b;  ///< light colour times the Phong terms (valid where added)
-  unsigned present = 0;          ///< bit j: light j is not exactly at the point
-  unsigned added = 0;            ///< bit j: light j adds a non-black term (a subset of present)
+  /// Per light: red, green, blue of its colour times the Phong terms (valid where added), and
+  /// an unused fourth float. One light's colour lies in one 16-byte store, which the loads of
+  /// its three channels can forward from; channel-major rows made the loads of the last light
+  /// span two stores, and wait for both to reach the cache.
+  std::array<std::array<float, 4>, 4> rgb;
+  unsigned present = 0;  ///< bit j: light j is not exactly at the point
+  unsigned added = 0;    ///< bit j: light j adds a non-black term (a subset of present)
 };
 
 /// What forEachLightTerm computes for one point light (direction, attenuation, the tests that
@@ -305,9 +334,7 @@ QuadTerms pointLightTerms(const PointLightQuad& q, const PointLight* lights, std
   b = cb * b;
   const LaneMask added = facing & ((r > zero) | (g > zero) | (b > zero));
   QuadTerms t;
-  store(r, t.r);
-  store(g, t.g);
-  store(b, t.b);
+  storeColors(r, g, b, t.rgb);
   const unsigned used = (1u << count) - 1u;
   t.present = bits(present) & used;
   t.added = bits(added) & used;
@@ -481,29 +508,44 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&&
     if (whitted_) counters.saved.shadow += std::popcount(q.present & ~q.added);
     for (unsigned lanes = q.added; lanes != 0; lanes &= lanes - 1) {
       const auto j = static_cast<std::size_t>(std::countr_zero(lanes));
-      add({q.r[j], q.g[j], q.b[j]}, first + j, false, {}, points[first + j].position);
+      add({q.rgb[j][0], q.rgb[j][1], q.rgb[j][2]}, first + j, false, {},
+          points[first + j].position);
     }
   }
-  const bool lit = sh.material.lit();
   forEachOtherLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t index) {
-    const float nl = dot(sh.ns, light.direction);
-    if (!lit || isBlack(light.color) || nl <= 0.0f || dot(sh.ng, light.direction) <= 0.0f) {
+    const std::optional<Vec3f> local = otherLightTerm(sh, light);
+    if (!local) {
       if (whitted_) ++counters.saved.shadow;
       return;
     }
-    const Vec3f local = light.color * phong(sh.material, sh.diffuse, sh.ns, sh.v, light.direction,
-                                            nl, sh.highlight.cutoff);
-    if (isBlack(local)) {
-      if (whitted_) ++counters.saved.shadow;
-      return;
-    }
-    add(local, index, light.atInfinity, light.direction, light.position);
+    add(*local, index, light.atInfinity, light.direction, light.position);
   });
+}
+
+Vec3f Shader::unshadowedColor(const SurfaceShading& sh) const {
+  // forEachLightTerm's terms summed in the same order, without its slots and callbacks: the
+  // sum then stays in registers (through the callbacks it went to memory once per light).
+  Vec3f color = sh.color;
+  const std::vector<PointLight>& points = rs_.pointLights;
+  for (std::size_t first = 0; first < points.size(); first += 4) {
+    const std::size_t count = std::min<std::size_t>(4, points.size() - first);
+    const QuadTerms q = pointLightTerms(pointQuads_[first / 4], points.data() + first, count, sh);
+    for (unsigned lanes = q.added; lanes != 0; lanes &= lanes - 1) {
+      const auto j = static_cast<std::size_t>(std::countr_zero(lanes));
+      color += Vec3f{q.rgb[j][0], q.rgb[j][1], q.rgb[j][2]};
+    }
+  }
+  if (!rs_.directionalLights.empty() || !rs_.spotLights.empty())
+    forEachOtherLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t) {
+      if (const std::optional<Vec3f> local = otherLightTerm(sh, light)) color += *local;
+    });
+  return color;
 }
 
 Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
                        float weight, TraversalContext& ctx, TileCounters& counters) const {
   SurfaceShading sh = prepare(ray, hit, sd);
+  if (!whitted_) return unshadowedColor(sh);
   LightTerm term;
   forEachLightTerm(
       sh, counters, [&](std::size_t) -> LightTerm& { return term; },
@@ -511,7 +553,7 @@ Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData&
         if (t.needsShadowRay && scene_.occluded(t.shadow, ctx)) return;
         sh.color += t.local;
       });
-  return whitted_ ? addSecondary(sh, depth, weight, ctx, counters) : sh.color;
+  return addSecondary(sh, depth, weight, ctx, counters);
 }
 
 void Shader::collectLightTerms(SurfaceShading& sh, TileCounters& counters, LightTerm* terms) const {

@@ -139,8 +139,13 @@ Image loadWithStb(const std::string& path, ColorEncoding encoding) {
 std::uint32_t wrap(long long i, std::uint32_t n) {
   // Nearly every index sample() asks for lies in the image already; the 64-bit division is
   // then skipped (it cost more than the rest of a bilinear lookup).
-  if (i >= 0 && i < static_cast<long long>(n)) return static_cast<std::uint32_t>(i);
-  const long long m = i % static_cast<long long>(n);
+  const auto size = static_cast<long long>(n);
+  if (i >= 0 && i < size) return static_cast<std::uint32_t>(i);
+  // One side beyond: the neighbour of a border texel in a bilinear lookup (every lookup near
+  // the border of a small tiled texture), again without the division.
+  if (i < 0 && i >= -size) return static_cast<std::uint32_t>(i + size);
+  if (i >= size && i < 2 * size) return static_cast<std::uint32_t>(i - size);
+  const long long m = i % size;
   return static_cast<std::uint32_t>(m < 0 ? m + n : m);
 }
 
