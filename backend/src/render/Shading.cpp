@@ -266,6 +266,9 @@ struct QuadTerms {
   std::array<std::array<float, 4>, 4> rgb;
   unsigned present = 0;  ///< bit j: light j is not exactly at the point
   unsigned added = 0;    ///< bit j: light j adds a non-black term (a subset of present)
+
+  /// The term of light j.
+  Vec3f color(std::size_t j) const { return {rgb[j][0], rgb[j][1], rgb[j][2]}; }
 };
 
 /// What forEachLightTerm computes for one point light (direction, attenuation, the tests that
@@ -508,8 +511,7 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&&
     if (whitted_) counters.saved.shadow += std::popcount(q.present & ~q.added);
     for (unsigned lanes = q.added; lanes != 0; lanes &= lanes - 1) {
       const auto j = static_cast<std::size_t>(std::countr_zero(lanes));
-      add({q.rgb[j][0], q.rgb[j][1], q.rgb[j][2]}, first + j, false, {},
-          points[first + j].position);
+      add(q.color(j), first + j, false, {}, points[first + j].position);
     }
   }
   forEachOtherLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t index) {
@@ -532,7 +534,7 @@ Vec3f Shader::unshadowedColor(const SurfaceShading& sh) const {
     const QuadTerms q = pointLightTerms(pointQuads_[first / 4], points.data() + first, count, sh);
     for (unsigned lanes = q.added; lanes != 0; lanes &= lanes - 1) {
       const auto j = static_cast<std::size_t>(std::countr_zero(lanes));
-      color += Vec3f{q.rgb[j][0], q.rgb[j][1], q.rgb[j][2]};
+      color += q.color(j);
     }
   }
   if (!rs_.directionalLights.empty() || !rs_.spotLights.empty())
