@@ -172,7 +172,7 @@ void leakCase(BenchReport& report, const CommonOptions& common, const Sizes& siz
     }
 #ifdef TG_HAVE_EMBREE
     {
-      EmbreeDevice device(common.threads);
+      EmbreeDevice device(common.threads, common.embreeConfig);
       EmbreeBenchScene peer(device, singleMesh(c.mesh, c.name), EmbreeQuality::High);
       arena.execute([&] { peer.commit(); });
       leakRow("embree-intersect1",
@@ -344,7 +344,7 @@ void translationCase(BenchReport& report, const CommonOptions& common, const Siz
     }
 
 #ifdef TG_HAVE_EMBREE
-    EmbreeDevice device(common.threads);
+    EmbreeDevice device(common.threads, common.embreeConfig);
     for (const auto& [bench, name, mapBack] :
          {std::tuple<const BenchScene*, const char*, const Flattened*>{&instanced, "instanced",
                                                                        nullptr},
@@ -760,7 +760,7 @@ void bartCase(BenchReport& report, const CommonOptions& common, const AccuracyOp
     traceOurs(flat.scene, variants.front().options,
               "tracegraph-" + variants.front().name + " flattened", &flat);
 #ifdef TG_HAVE_EMBREE
-    EmbreeDevice device(common.threads);
+    EmbreeDevice device(common.threads, common.embreeConfig);
     EmbreeBenchScene peer(device, bench, EmbreeQuality::High);
     arena.execute([&] { peer.commit(); });
     std::vector<RayOutcome> out(rays.size());

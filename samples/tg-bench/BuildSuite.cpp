@@ -60,7 +60,7 @@ BenchReport runBuildSuite(const CommonOptions& common, const BuildOptions& optio
   }
 
 #ifdef TG_HAVE_EMBREE
-  EmbreeDevice device(common.threads);
+  EmbreeDevice device(common.threads, common.embreeConfig);
   for (const EmbreeQuality quality : kEmbreeBuildQualities) {
     progress("build: " + embreeImplName(quality));
     const TimingSummary t = timeEmbreeBuilds(device, scene, quality, reps);

@@ -53,8 +53,10 @@ struct EmbreeFlatScene::State {
   }
 };
 
-EmbreeFlatScene::EmbreeFlatScene(int threads) : state_(std::make_unique<State>()) {
-  const std::string config = "threads=" + std::to_string(threads) + ",verbose=0";
+EmbreeFlatScene::EmbreeFlatScene(int threads, const std::string& extraConfig)
+    : state_(std::make_unique<State>()) {
+  std::string config = "threads=" + std::to_string(threads) + ",verbose=0";
+  if (!extraConfig.empty()) config += "," + extraConfig;
   state_->device = rtcNewDevice(config.c_str());
   if (state_->device == nullptr)
     throw Error("Embree: rtcNewDevice(\"" + config + "\") failed (error " +

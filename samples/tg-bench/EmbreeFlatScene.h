@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <memory>
 #include <span>
+#include <string>
 
 #include "tracegraph/backend/Scene.h"
 
@@ -18,8 +19,9 @@ namespace tg::bench {
 class EmbreeFlatScene {
  public:
   /// Creates its own Embree device limited to `threads` worker threads (EmbreeDevice keeps its
-  /// handle private to EmbreePeer.cpp).
-  explicit EmbreeFlatScene(int threads);
+  /// handle private to EmbreePeer.cpp), with `extraConfig` appended to its configuration as
+  /// EmbreeDevice does.
+  EmbreeFlatScene(int threads, const std::string& extraConfig);
   ~EmbreeFlatScene();
   EmbreeFlatScene(const EmbreeFlatScene&) = delete;
   EmbreeFlatScene& operator=(const EmbreeFlatScene&) = delete;

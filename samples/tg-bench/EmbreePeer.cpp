@@ -128,8 +128,10 @@ std::string embreeVersion() {
 
 // --- EmbreeDevice -------------------------------------------------------------------------
 
-EmbreeDevice::EmbreeDevice(int threads, bool monitorMemory) : state_(std::make_unique<State>()) {
-  const std::string config = "threads=" + std::to_string(threads) + ",verbose=0";
+EmbreeDevice::EmbreeDevice(int threads, const std::string& extraConfig, bool monitorMemory)
+    : state_(std::make_unique<State>()) {
+  std::string config = "threads=" + std::to_string(threads) + ",verbose=0";
+  if (!extraConfig.empty()) config += "," + extraConfig;
   state_->device = rtcNewDevice(config.c_str());
   if (state_->device == nullptr)
     throw Error("Embree: rtcNewDevice(\"" + config + "\") failed (error " +

@@ -41,7 +41,9 @@ class EmbreeDevice {
  public:
   /// With `monitorMemory`, installs Embree's memory-monitor callback to count the bytes the
   /// device holds (see allocatedBytes); off by default, since it runs on every allocation.
-  explicit EmbreeDevice(int threads, bool monitorMemory = false);
+  /// `extraConfig`, when not empty, is appended to the device configuration string (see
+  /// CommonOptions::embreeConfig). Embree reads the keys it knows and ignores the others.
+  EmbreeDevice(int threads, const std::string& extraConfig, bool monitorMemory = false);
   ~EmbreeDevice();
   EmbreeDevice(const EmbreeDevice&) = delete;
   EmbreeDevice& operator=(const EmbreeDevice&) = delete;

@@ -62,7 +62,7 @@ BenchReport runMemorySuite(const CommonOptions& common, const PeerSceneOptions& 
        {EmbreeQuality::Low, EmbreeQuality::Medium, EmbreeQuality::High, EmbreeQuality::Refit}) {
     progress("memory: " + embreeImplName(quality));
     // A device of its own per quality, so that nothing another build left cached is counted.
-    EmbreeDevice device(common.threads, true);
+    EmbreeDevice device(common.threads, common.embreeConfig, true);
     const std::int64_t before = device.allocatedBytes();
     std::int64_t geometry = 0, built = 0;
     {

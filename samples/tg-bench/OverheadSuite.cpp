@@ -69,7 +69,7 @@ BenchReport runOverheadSuite(const CommonOptions& common, const PeerSceneOptions
 
 #ifdef TG_HAVE_EMBREE
   // Static scenes at the quality Tracegraph's static objects get (SAH), as in the trace suite.
-  EmbreeDevice device(common.threads);
+  EmbreeDevice device(common.threads, common.embreeConfig);
   const std::string peer = embreeImplName(EmbreeQuality::High);
   std::vector<std::unique_ptr<EmbreeBenchScene>> peers;
   for (const Layout& layout : layouts) {

@@ -76,7 +76,7 @@ BenchReport runRebuildSuite(const CommonOptions& common, const RebuildOptions& o
   }
 
 #ifdef TG_HAVE_EMBREE
-  EmbreeDevice device(common.threads);
+  EmbreeDevice device(common.threads, common.embreeConfig);
   for (const EmbreeQuality quality :
        {EmbreeQuality::Low, EmbreeQuality::Medium, EmbreeQuality::High, EmbreeQuality::Refit}) {
     progress("rebuild: " + embreeImplName(quality));

@@ -525,7 +525,10 @@ int runReport(const CommonOptions& common, const ReportOptions& options) {
      << "| threads | " << common.threads << " (Tracegraph and Embree alike) |\n"
      << "| load average | " << loadAtStart << " at the start, " << loadAverage()
      << " at the end (1, 5, 15 min) |\n"
-     << "| peer | Embree " << embree << ", in the same process and run |\n\n"
+     << "| peer | Embree " << embree
+     << (common.embreeConfig.empty() ? std::string()
+                                     : ", device configured with `" + common.embreeConfig + "`")
+     << ", in the same process and run |\n\n"
      << "Every figure below was measured in this run. Columns: *median ms* of the timed "
         "repetitions (after one untimed warm-up; the traces of the trace, static, overhead and "
         "scaling tables in interleaved rounds, every row once per round right after an "

@@ -52,7 +52,7 @@ BenchReport runScalingSuite(const CommonOptions& common, const PeerSceneOptions&
                       }});
   }
 #ifdef TG_HAVE_EMBREE
-  EmbreeDevice device(common.threads);
+  EmbreeDevice device(common.threads, common.embreeConfig);
   EmbreeBenchScene peer(device, primary.bench(), EmbreeQuality::High);
   all.execute([&] { peer.commit(); });
   device.check("building the scene");

@@ -65,7 +65,7 @@ BenchReport runStaticBuildSuite(const CommonOptions& common, const PeerSceneOpti
     }));
   }
 #ifdef TG_HAVE_EMBREE
-  EmbreeDevice device(common.threads);
+  EmbreeDevice device(common.threads, common.embreeConfig);
   for (const EmbreeQuality quality : kEmbreeBuildQualities) {
     impls.push_back(embreeImplName(quality));
     progress("static: " + impls.back());

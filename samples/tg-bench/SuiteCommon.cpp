@@ -20,6 +20,8 @@ BenchReport startReport(const std::string& suite, const CommonOptions& common) {
   report.threads = common.threads;
 #ifdef TG_HAVE_EMBREE
   report.extra.push_back(textField("embree_version", embreeVersion()));
+  if (!common.embreeConfig.empty())
+    report.extra.push_back(textField("embree_config", common.embreeConfig));
 #else
   std::cerr << "tg-bench: built without Embree; peer rows are skipped\n";
 #endif

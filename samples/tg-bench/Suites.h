@@ -17,6 +17,9 @@ struct CommonOptions {
   bool json = false;
   int threads = 1;  ///< worker threads for Tracegraph and Embree alike
   int reps = 0;     ///< timed repetitions; 0: the suite's default
+  /// Appended to Embree's device configuration (rtcNewDevice), e.g. "tri_accel=bvh4.triangle4"
+  /// to trace with its 4-wide BVH, or "isa=avx2": to see where the peer's speed comes from.
+  std::string embreeConfig;
 };
 
 /// Default repetitions of the build suites (toplevel, rebuild, build), of the trace suite and

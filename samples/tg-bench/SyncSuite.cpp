@@ -340,7 +340,7 @@ void runFrameCase(BenchReport& report, const CommonOptions& common, const SceneS
   // The same frames again, each synced untimed and then flattened from the backend scene into
   // one Embree geometry: the flat approach sees exactly the triangles Tracegraph holds.
   progress("sync: " + source.name + ", embree-low-flat");
-  EmbreeFlatScene flat(common.threads);
+  EmbreeFlatScene flat(common.threads, common.embreeConfig);
   std::vector<double> copyMs, copyAndBuildMs;
   const TimingSummary build = measureRepeated(reps, [&](int k) {
     graph.advanceTo(timing.timeOf(frameOfStep(timing, k + 1)));

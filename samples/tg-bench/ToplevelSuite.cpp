@@ -106,7 +106,7 @@ BenchReport runToplevelSuite(const CommonOptions& common, const ToplevelOptions&
   }
 
 #ifdef TG_HAVE_EMBREE
-  EmbreeDevice device(common.threads);
+  EmbreeDevice device(common.threads, common.embreeConfig);
   for (const EmbreeQuality quality :
        {EmbreeQuality::Low, EmbreeQuality::Medium, EmbreeQuality::High, EmbreeQuality::Refit}) {
     progress("toplevel: " + embreeImplName(quality));

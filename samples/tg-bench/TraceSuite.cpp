@@ -315,7 +315,7 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
   }
 
 #ifdef TG_HAVE_EMBREE
-  EmbreeDevice device(common.threads);
+  EmbreeDevice device(common.threads, common.embreeConfig);
   // Embree's scene at two build qualities, each traced by its own rows: HIGH (spatial splits;
   // the rows without a quality in their name, as since the first reports) and MEDIUM (binned
   // SAH like our static objects, and Embree's default). Neither wins everywhere: from the

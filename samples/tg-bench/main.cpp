@@ -34,6 +34,9 @@ void addCommonOptions(CLI::App& sub, CommonOptions& common) {
                  "Timed repetitions, reported as median/min/max (default: 11 for builds, 5 for "
                  "trace, 31 for sync; frame: passes over its frames, default 1)")
       ->check(CLI::Range(1, 100000));
+  sub.add_option("--embree-config", common.embreeConfig,
+                 "Appended to Embree's device configuration, e.g. tri_accel=bvh4.triangle4 "
+                 "(its 4-wide BVH) or isa=avx2; the peer rows then measure that Embree");
 }
 
 /// Accepts what parseImageSize accepts.
