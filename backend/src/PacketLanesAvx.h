@@ -104,13 +104,15 @@ unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, Packe
   static_assert(sizeof(Ray) == 8 * sizeof(float) && kPacketLanes == 8,
                 "eight rays of eight floats: an 8 x 8 transpose");
   const auto* f = reinterpret_cast<const float*>(rays);
-  __m256 r[8];
-  for (int i = 0; i < 8; ++i) r[i] = _mm256_loadu_ps(f + 8 * i);
-  // Transpose: row[j] holds float j (Ray's member order) of every ray.
+  // Transpose: row[j] holds float j (Ray's member order) of every ray. The rays are read by the
+  // unpacks themselves: copied into an array of registers first, GCC moved them through the
+  // stack in 64-byte halves and read them back in 32-byte quarters, which the store buffer
+  // cannot forward.
   __m256 t[8], u[8], row[8];
   for (int i = 0; i < 8; i += 2) {
-    t[i] = _mm256_unpacklo_ps(r[i], r[i + 1]);
-    t[i + 1] = _mm256_unpackhi_ps(r[i], r[i + 1]);
+    const __m256 a = _mm256_loadu_ps(f + 8 * i), b = _mm256_loadu_ps(f + 8 * (i + 1));
+    t[i] = _mm256_unpacklo_ps(a, b);
+    t[i + 1] = _mm256_unpackhi_ps(a, b);
   }
   for (int i = 0; i < 8; i += 4) {
     u[i] = _mm256_shuffle_ps(t[i], t[i + 2], _MM_SHUFFLE(1, 0, 1, 0));
