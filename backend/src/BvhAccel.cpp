@@ -548,16 +548,18 @@ void BvhAccel::loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPack
   setPacketRows(box, signs);
   fillUnusedLanes(box, coherent, first);
   loadPacketTriangles(packet, coherent, out);
+  out.kernels = &activePacketKernels();
 }
 
 void BvhAccel::loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, unsigned filtered,
-                                  BvhPacketRays& out) {
+                                  const PacketKernels& kernels, BvhPacketRays& out) {
   // An identity instance's object rays are the world rays (origin, tnear, and reciprocals that
   // are correctly rounded quotients either way, +inf for zeros in the box rows), so every lane
   // has the world signs and the box rows are the world's.
   out.box = world;
   out.coherent = lanes;
   out.filtered = filtered;
+  out.kernels = &kernels;
 }
 
 unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays,
@@ -577,7 +579,7 @@ unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays&
   c.accel = this;
   c.ctx = &ctx;
   c.rays = &rays;
-  c.kernels = &activePacketKernels();
+  c.kernels = rays.kernels;
   c.packet = &packet;
   c.hits = hits;
   c.kernels->traverse(nodes_.data(), root.child, root.count, rays.box, lanes, false,
@@ -601,7 +603,7 @@ unsigned BvhAccel::occludedLoadedPacket(const ObjectRayPacket& packet, BvhPacket
   c.accel = this;
   c.ctx = &ctx;
   c.rays = &rays;
-  c.kernels = &activePacketKernels();
+  c.kernels = rays.kernels;
   c.packet = &packet;
   return c.kernels->traverse(nodes_.data(), root.child, root.count, rays.box, lanes, true,
                              &occludedPacketLeaf, &occludedSingleLane, &c, ctx.nodeVisits);

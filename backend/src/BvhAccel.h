@@ -25,6 +25,9 @@ struct BvhPacketRays {
   unsigned coherent = 0;
   /// Lanes of `coherent` in `triangles`: the others are tested lane by lane.
   unsigned filtered = 0;
+  /// The kernels that walk these rays (those of the instruction set active when loaded): looked
+  /// up once per load rather than at every walk entered with them.
+  const PacketKernels* kernels = nullptr;
 };
 
 /// A part of a BvhAccel's tree that a top-level walk may enter directly, in place of the whole
@@ -64,13 +67,14 @@ class BvhAccel final : public ObjectAccel {
 
   /// Loads the lanes of `packet` in `lanes` into `out` (see BvhPacketRays).
   static void loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPacketRays& out);
-  /// loadPacket for the packet of an identity instance (lanes `lanes`), whose box rays are
+  /// loadPacket for the packet of an identity instance (lanes `lanes`, walked with `kernels`),
+  /// whose box rays are
   /// `world`: the world rays of `lanes`, loaded for the top-level walk (same direction signs,
   /// unused lanes filled from the first), and whose triangle rows mapIdentityPacket wrote into
   /// out.triangles, returning `filtered`. The box part is a copy of `world` (lane tfar as
   /// `world` holds it), equal to what loadPacket computes lane by lane.
   static void loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, unsigned filtered,
-                                 BvhPacketRays& out);
+                                 const PacketKernels& kernels, BvhPacketRays& out);
   /// intersectPacket for lanes already loaded: `lanes` lie in rays.coherent, and rays.box.tfar
   /// of each equals its packet ray's tfar. Returns the lanes whose hit changed.
   /// `root` limits the walk to one subtree (BvhSubtree); the default is the whole tree.

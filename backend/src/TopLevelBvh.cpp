@@ -257,13 +257,16 @@ class UninitialisedObjectPacket {
 struct TopLevelPacketWalk {
   using Ref = TopLevelBvh::Ref;
 
-  TopLevelPacketWalk(const TopLevelBvh* top_, const Ray* rays_, Hit* hits_, TraversalContext* ctx_)
-      : top(top_), rays(rays_), hits(hits_), ctx(ctx_) {}
+  TopLevelPacketWalk(const TopLevelBvh* top_, const Ray* rays_, Hit* hits_, TraversalContext* ctx_,
+                     const PacketKernels* kernels_)
+      : top(top_), rays(rays_), hits(hits_), ctx(ctx_), kernels(kernels_) {}
 
   const TopLevelBvh* top;
   const Ray* rays;
   Hit* hits;
   TraversalContext* ctx;
+  /// The kernels of the walk and of the identity instances it enters.
+  const PacketKernels* kernels;
   /// Lanes of the walk (set by load).
   unsigned walkLanes = 0;
   /// Object packet of the transformed instance being entered.
@@ -320,7 +323,7 @@ struct TopLevelPacketWalk {
   BvhPacketRays& identityBvhRays(unsigned lanes, const PacketBoxRays& world) {
     if (!identityBvhReady) {
       const ObjectRayPacket& packet = identity.get();
-      BvhAccel::loadIdentityPacket(world, walkLanes, identityFiltered, identityBvh);
+      BvhAccel::loadIdentityPacket(world, walkLanes, identityFiltered, *kernels, identityBvh);
       identityBvhReady = true;
       for (unsigned m = lanes; m != 0; m &= m - 1) {
         const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
@@ -435,7 +438,7 @@ struct TopLevelPacketWalk {
   /// Loads the world rays of `lanes` whose direction signs match the first traceable lane's;
   /// leaves the lanes whose rays are not traceable out of `lanes`.
   unsigned load(unsigned& lanes, PacketBoxRays& boxRays) {
-    walkLanes = activePacketKernels().loadBoxRays(rays, hits, lanes, boxRays);
+    walkLanes = kernels->loadBoxRays(rays, hits, lanes, boxRays);
     return walkLanes;
   }
 
@@ -448,8 +451,9 @@ struct TopLevelPacketWalk {
                              TraversalContext& ctx, bool anyHit, PacketLeafFn leaf,
                              PacketSingleFn single, unsigned& lanes) {
     unsigned alone = 0, found = 0;
+    const PacketKernels& kernels = activePacketKernels();
     while (laneCount(lanes) >= kMinPacketLanes) {
-      TopLevelPacketWalk walk(top, rays, hits, &ctx);
+      TopLevelPacketWalk walk(top, rays, hits, &ctx, &kernels);
       PacketBoxRays boxRays;
       const unsigned group = walk.load(lanes, boxRays);
       lanes &= ~group;
@@ -458,8 +462,8 @@ struct TopLevelPacketWalk {
         alone |= group;
         continue;
       }
-      found |= activePacketKernels().traverse(top->bvh_.nodes.data(), 0, 0, boxRays, group, anyHit,
-                                              leaf, single, &walk, ctx.nodeVisits);
+      found |= kernels.traverse(top->bvh_.nodes.data(), 0, 0, boxRays, group, anyHit, leaf, single,
+                                &walk, ctx.nodeVisits);
     }
     lanes |= alone;
     return found;
