@@ -124,6 +124,11 @@ unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, Packe
     row[j] = _mm256_permute2f128_ps(u[j], u[j + 4], 0x20);
     row[j + 4] = _mm256_permute2f128_ps(u[j], u[j + 4], 0x31);
   }
+  // The rows that go out unchanged are stored at once (unread when no lane is traceable): kept
+  // until the end, GCC held them on the stack and copied them out in 64-byte moves from 32-byte
+  // stores, which the store buffer cannot forward.
+  for (int a = 0; a < 3; ++a) _mm256_store_ps(out.origin[a], row[a]);
+  _mm256_store_ps(out.tnear, row[3]);
   // Traceable: finite origin and direction (|x| < inf is false for inf and NaN), a direction
   // that is not zero (unordered: NaN counts as not zero, and is caught above), tnear <= tfar.
   const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
@@ -158,20 +163,29 @@ unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, Packe
     out.nearRow[a] = 2 * a + (negative ? 1 : 0);
     out.farRow[a] = 2 * a + (negative ? 0 : 1);
   }
-  if (coherent != kAllLanes) {
-    const __m256 keep = Avx8LaneOps::laneMask(coherent);
-    const __m256i lead = _mm256_set1_epi32(static_cast<int>(firstLane));
-    for (__m256& v : row) v = _mm256_blendv_ps(_mm256_permutevar8x32_ps(v, lead), v, keep);
-  }
   for (int a = 0; a < 3; ++a) {
     const __m256 d = row[4 + a];
     const __m256 reciprocal = _mm256_div_ps(_mm256_set1_ps(1.0f), d);
-    _mm256_store_ps(out.origin[a], row[a]);
     _mm256_store_ps(out.reciprocal[a],
                     _mm256_blendv_ps(reciprocal, inf, _mm256_cmp_ps(d, zero, _CMP_EQ_OQ)));
   }
-  _mm256_store_ps(out.tnear, row[3]);
   _mm256_store_ps(out.tfar, row[7]);
+  // Lanes of other signs take the first lane's values, in the rows as stored (the first lane's
+  // reciprocal is what its direction gives), in place: the common case stores each row once.
+  if (coherent != kAllLanes) {
+    const __m256 keep = Avx8LaneOps::laneMask(coherent);
+    const __m256i lead = _mm256_set1_epi32(static_cast<int>(firstLane));
+    const auto spread = [&](float* values) {
+      const __m256 v = _mm256_load_ps(values);
+      _mm256_store_ps(values, _mm256_blendv_ps(_mm256_permutevar8x32_ps(v, lead), v, keep));
+    };
+    for (int a = 0; a < 3; ++a) {
+      spread(out.origin[a]);
+      spread(out.reciprocal[a]);
+    }
+    spread(out.tnear);
+    spread(out.tfar);
+  }
   return coherent;
 }
 
