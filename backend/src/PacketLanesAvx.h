@@ -71,6 +71,9 @@ struct Lanes8 {
                                  _mm256_cvtpd_ps(x.hi), 1)};
   }
   static unsigned mask(__m256 m) { return static_cast<unsigned>(_mm256_movemask_ps(m)); }
+  static Lanes8 select(unsigned bits, Lanes8 a, Lanes8 b) {
+    return {_mm256_blendv_ps(b.v, a.v, Avx8LaneOps::laneMask(bits))};
+  }
   static unsigned anyZero(Lanes8 u, Lanes8 v, Lanes8 w) {
     const __m256 zero = _mm256_setzero_ps();
     return mask(_mm256_or_ps(

@@ -108,6 +108,12 @@ struct Lanes4 {
     return {_mm_movelh_ps(_mm_cvtpd_ps(x.lo), _mm_cvtpd_ps(x.hi))};
   }
   static unsigned mask(__m128 m) { return static_cast<unsigned>(_mm_movemask_ps(m)); }
+  static Lanes4 select(unsigned bits, Lanes4 a, Lanes4 b) {
+    const __m128i lane = _mm_setr_epi32(1, 2, 4, 8);
+    const __m128 m = _mm_castsi128_ps(
+        _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(static_cast<int>(bits)), lane), lane));
+    return {_mm_or_ps(_mm_and_ps(m, a.v), _mm_andnot_ps(m, b.v))};
+  }
   static unsigned anyZero(Lanes4 u, Lanes4 v, Lanes4 w) {
     const __m128 zero = _mm_setzero_ps();
     return mask(_mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u.v, zero), _mm_cmpeq_ps(v.v, zero)),
@@ -156,6 +162,7 @@ struct Lanes1 {
   friend Lanes1 operator*(Lanes1 a, Lanes1 b) { return {a.v * b.v}; }
   friend Lanes1 operator/(Lanes1 a, Lanes1 b) { return {a.v / b.v}; }
   static Lanes1 fromDoubles(Doubles1 x) { return {static_cast<float>(x.v)}; }
+  static Lanes1 select(unsigned bits, Lanes1 a, Lanes1 b) { return (bits & 1u) ? a : b; }
   static unsigned anyZero(Lanes1 u, Lanes1 v, Lanes1 w) {
     return u.v == 0.0f || v.v == 0.0f || w.v == 0.0f ? 1 : 0;
   }

@@ -5,12 +5,15 @@
 // V (floats) must provide: V::kWidth lanes; V::load(const float*), V::broadcast(float),
 // v.store(float*); +, -, *, /; and the lane masks V::anyZero(U, V, W) (some edge function is
 // zero), V::inside(U, V, W) (no two edge functions of opposite sign, and U + V + W not zero,
-// NaN counting as not zero) and V::inRange(t, tnear, tfar) (tnear <= t <= tfar and t finite,
+// NaN counting as not zero), V::select(bits, a, b) (a in the lanes of `bits`, b elsewhere) and
+// V::inRange(t, tnear, tfar) (tnear <= t <= tfar and t finite,
 // false for NaN). V::Doubles (the same lanes in double) must provide load, broadcast, +, -, *,
 // /, D::nonZero(x) (x != 0, NaN counting as not zero) and V::fromDoubles(D) (rounding to float).
 // Plain operators keep the scalar test's order of operations; the kernels are compiled without
 // floating-point contraction, so every lane rounds exactly as intersectWatertight does.
 #pragma once
+
+#include <cstring>
 
 #include "PacketKernel.h"
 
@@ -24,8 +27,10 @@ std::uint32_t testTrianglesWith(const float* vertices, std::uint32_t count,
   using D = typename V::Doubles;
   constexpr unsigned kWidthMask = (1u << V::kWidth) - 1u;
   const int kx = rays.kx, ky = rays.ky, kz = rays.kz;
+  // tfar is written and read in whole vectors only: a vector load of lanes just stored one by
+  // one cannot be forwarded from the store buffer and waits for the stores to retire.
   alignas(64) float tfar[kPacketLanes];
-  for (unsigned l = 0; l < kPacketLanes; ++l) tfar[l] = tfarIn[l];
+  std::memcpy(tfar, tfarIn, sizeof(tfar));
   unsigned live = lanes;
   for (std::uint32_t i = 0; i < count; ++i) {
     const float* tri = vertices + 9 * i;
@@ -74,6 +79,9 @@ std::uint32_t testTrianglesWith(const float* vertices, std::uint32_t count,
           inside & D::nonZero(nd) & V::inRange(t, V::load(rays.tnear + h), V::load(tfar + h));
       if (hit == 0) continue;
       const V invDet = V::broadcast(1.0f) / ((u + v) + w);
+      // A closer hit shortens the lane for the triangles after, as ray.tfar does in the scalar
+      // leaf loop.
+      V::select(hit, t, V::load(tfar + h)).store(tfar + h);
       t.store(out.t[i] + h);
       (v * invDet).store(out.u[i] + h);
       (w * invDet).store(out.v[i] + h);
@@ -81,12 +89,7 @@ std::uint32_t testTrianglesWith(const float* vertices, std::uint32_t count,
     }
     out.hit[i] = hitMask;
     out.exact[i] = exactMask;
-    // A closer hit shortens the lane for the triangles after, as ray.tfar does in the scalar
-    // leaf loop; an any-hit lane is done.
-    for (unsigned m = hitMask; m != 0; m &= m - 1) {
-      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-      tfar[l] = out.t[i][l];
-    }
+    // An any-hit lane is done.
     if (anyHit) live &= ~hitMask;
     if (exactMask != 0 || live == 0) return i + 1;
   }
