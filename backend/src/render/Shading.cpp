@@ -123,6 +123,11 @@ Lanes load(const std::array<float, 4>& a) {
 Lanes splat(float f) {
   return {_mm_set1_ps(f)};
 }
+/// Four values computed one by one, put together in registers: stored one by one and loaded as
+/// a vector, they would wait for the stores to retire (no store forwarding).
+Lanes fromScalars(float a, float b, float c, float d) {
+  return {_mm_setr_ps(a, b, c, d)};
+}
 void store(const Lanes& a, std::array<float, 4>& out) {
   _mm_storeu_ps(out.data(), a.v);
 }
@@ -207,6 +212,9 @@ Lanes load(const std::array<float, 4>& a) {
 Lanes splat(float f) {
   return {{f, f, f, f}};
 }
+Lanes fromScalars(float a, float b, float c, float d) {
+  return {{a, b, c, d}};
+}
 void store(const Lanes& a, std::array<float, 4>& out) {
   out = a.v;
 }
@@ -288,18 +296,17 @@ QuadTerms pointLightTerms(const PointLightQuad& q, const PointLight* lights, std
   const Lanes nl = dotDirection(sh.ns), ngl = dotDirection(sh.ng);
   Lanes cr = load(q.r), cg = load(q.g), cb = load(q.b);
   if (q.attenuated) {
-    std::array<float, 4> d, r = q.r, g = q.g, b = q.b;
+    std::array<float, 4> d;
     store(distance, d);
-    for (std::size_t j = 0; j < count; ++j) {
-      if (lights[j].attenuation.none()) continue;
-      const Vec3f c = lights[j].color * lights[j].attenuation.factor(d[j]);
-      r[j] = c.x;
-      g[j] = c.y;
-      b[j] = c.z;
+    Vec3f c[4];
+    for (std::size_t j = 0; j < 4; ++j) {
+      c[j] = j < count && !lights[j].attenuation.none()
+                 ? lights[j].color * lights[j].attenuation.factor(d[j])
+                 : Vec3f{q.r[j], q.g[j], q.b[j]};
     }
-    cr = load(r);
-    cg = load(g);
-    cb = load(b);
+    cr = fromScalars(c[0].x, c[1].x, c[2].x, c[3].x);
+    cg = fromScalars(c[0].y, c[1].y, c[2].y, c[3].y);
+    cb = fromScalars(c[0].z, c[1].z, c[2].z, c[3].z);
   }
   // Lanes past `count` and lanes that fail a test compute garbage that no one reads.
   const LaneMask present = distance > zero;
@@ -322,11 +329,13 @@ QuadTerms pointLightTerms(const PointLightQuad& q, const PointLight* lights, std
     const LaneMask highlight =
         andNot(facing & (rv > zero) & (rv >= splat(limits.cutoff)), absorbed);
     if (const unsigned lanes = bits(highlight) & ((1u << count) - 1u)) {
-      std::array<float, 4> rvs, powers{};
+      std::array<float, 4> rvs;
       store(rv, rvs);
-      for (std::size_t j = 0; j < count; ++j)
-        if (lanes >> j & 1u) powers[j] = std::pow(rvs[j], m.shine);
-      const Lanes power = load(powers);
+      const auto highlightPower = [&](unsigned j) {
+        return (lanes >> j & 1u) ? std::pow(rvs[j], m.shine) : 0.0f;
+      };
+      const Lanes power =
+          fromScalars(highlightPower(0), highlightPower(1), highlightPower(2), highlightPower(3));
       r = select(highlight, r + splat(m.specular.x) * power, r);
       g = select(highlight, g + splat(m.specular.y) * power, g);
       b = select(highlight, b + splat(m.specular.z) * power, b);
