@@ -3,6 +3,7 @@
 #include "BvhAccel.h"
 
 #include "LeafTest.h"
+#include "PacketObjectRays.h"
 #include "PacketRays.h"
 
 #include <tbb/blocked_range.h>
@@ -376,22 +377,30 @@ namespace {
 struct PacketLeafContext {
   const BvhAccel* accel;
   TraversalContext* ctx;
-  const BvhPacketRays* rays;
+  BvhPacketRays* rays;
   /// The kernels of the walk, looked up once rather than per leaf.
   const PacketKernels* kernels;
+  /// The packet's rays; the closest-hit callbacks lower the lanes' tfar in it.
+  ObjectRayPacket* packet;
+
+  /// Lane `l`'s whole object ray, completed first if the packet holds only its tfar and ids.
+  ObjectRay& lane(unsigned l) const {
+    if (rays->unmappedLanes & (1u << l)) {
+      mapIdentityLane(rays->worldRays[l], packet->rays[l]);
+      rays->unmappedLanes &= ~(1u << l);
+    }
+    return packet->rays[l];
+  }
 };
 
-/// The closest-hit callbacks' context: they lower the lanes' tfar in the packet itself.
+/// The closest-hit callbacks' context.
 struct ClosestLeafContext : PacketLeafContext {
-  ObjectRayPacket* packet;
   Hit* hits;
   unsigned changed = 0;
 };
 
 /// The any-hit callbacks' context.
-struct OccludedLeafContext : PacketLeafContext {
-  const ObjectRayPacket* packet;
-};
+using OccludedLeafContext = PacketLeafContext;
 
 /// Tests the leaf's triangles against the lanes in `lanes`, in triangle order per lane as the
 /// single-ray leaf test meets them: the SIMD test gives found(lane, k, hit) its hits, and the
@@ -449,7 +458,7 @@ unsigned intersectPacketLeaf(void* user, std::uint32_t first, std::uint32_t coun
         return false;
       },
       [&](unsigned l, std::uint32_t k) {
-        if (c.accel->intersectTriangle(c.packet->rays[l], c.hits[l], k)) recorded(l);
+        if (c.accel->intersectTriangle(c.lane(l), c.hits[l], k)) recorded(l);
         return false;
       });
   return 0;
@@ -467,7 +476,7 @@ unsigned occludedPacketLeaf(void* user, std::uint32_t first, std::uint32_t count
         return true;
       },
       [&](unsigned l, std::uint32_t k) {
-        if (!c.accel->occludedTriangle(c.packet->rays[l], k)) return false;
+        if (!c.accel->occludedTriangle(c.lane(l), k)) return false;
         blocked |= 1u << l;
         c.ctx->occludingPrimitive = k;
         return true;
@@ -477,7 +486,7 @@ unsigned occludedPacketLeaf(void* user, std::uint32_t first, std::uint32_t count
 
 unsigned intersectSingleLane(void* user, std::uint32_t child, unsigned lane, PacketBoxRays& rays) {
   auto& c = *static_cast<ClosestLeafContext*>(user);
-  if (c.accel->intersectSubtree(c.packet->rays[lane], c.hits[lane], child, 0, *c.ctx)) {
+  if (c.accel->intersectSubtree(c.lane(lane), c.hits[lane], child, 0, *c.ctx)) {
     rays.tfar[lane] = c.packet->rays[lane].tfar;
     c.changed |= 1u << lane;
   }
@@ -486,7 +495,7 @@ unsigned intersectSingleLane(void* user, std::uint32_t child, unsigned lane, Pac
 
 unsigned occludedSingleLane(void* user, std::uint32_t child, unsigned lane, PacketBoxRays&) {
   const auto& c = *static_cast<const OccludedLeafContext*>(user);
-  return c.accel->occludedSubtree(c.packet->rays[lane], child, 0, *c.ctx) ? 1u : 0u;
+  return c.accel->occludedSubtree(c.lane(lane), child, 0, *c.ctx) ? 1u : 0u;
 }
 
 }  // namespace
@@ -549,6 +558,7 @@ void BvhAccel::loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPack
   fillUnusedLanes(box, coherent, first);
   loadPacketTriangles(packet, coherent, out);
   out.kernels = &activePacketKernels();
+  out.unmappedLanes = 0;
 }
 
 void BvhAccel::loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, unsigned filtered,
@@ -566,15 +576,6 @@ unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays&
                                          unsigned lanes, Hit* hits, TraversalContext& ctx,
                                          const BvhSubtree& root) const {
   if (lanes == 0 || nodes_.empty()) return 0;
-  if (laneCount(lanes) < kMinPacketLanes) {
-    unsigned changed = 0;
-    for (unsigned m = lanes; m != 0; m &= m - 1) {
-      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-      if (intersectSubtree(packet.rays[l], hits[l], root.child, root.count, ctx))
-        changed |= 1u << l;
-    }
-    return changed;
-  }
   ClosestLeafContext c;
   c.accel = this;
   c.ctx = &ctx;
@@ -582,29 +583,37 @@ unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays&
   c.kernels = rays.kernels;
   c.packet = &packet;
   c.hits = hits;
+  if (laneCount(lanes) < kMinPacketLanes) {
+    unsigned changed = 0;
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      if (intersectSubtree(c.lane(l), hits[l], root.child, root.count, ctx)) changed |= 1u << l;
+    }
+    return changed;
+  }
   c.kernels->traverse(nodes_.data(), root.child, root.count, rays.box, lanes, false,
                       &intersectPacketLeaf, &intersectSingleLane, &c, ctx.nodeVisits);
   return c.changed;
 }
 
-unsigned BvhAccel::occludedLoadedPacket(const ObjectRayPacket& packet, BvhPacketRays& rays,
+unsigned BvhAccel::occludedLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays,
                                         unsigned lanes, TraversalContext& ctx,
                                         const BvhSubtree& root) const {
   if (lanes == 0 || nodes_.empty()) return 0;
-  if (laneCount(lanes) < kMinPacketLanes) {
-    unsigned blocked = 0;
-    for (unsigned m = lanes; m != 0; m &= m - 1) {
-      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-      if (occludedSubtree(packet.rays[l], root.child, root.count, ctx)) blocked |= 1u << l;
-    }
-    return blocked;
-  }
   OccludedLeafContext c;
   c.accel = this;
   c.ctx = &ctx;
   c.rays = &rays;
   c.kernels = rays.kernels;
   c.packet = &packet;
+  if (laneCount(lanes) < kMinPacketLanes) {
+    unsigned blocked = 0;
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      if (occludedSubtree(c.lane(l), root.child, root.count, ctx)) blocked |= 1u << l;
+    }
+    return blocked;
+  }
   return c.kernels->traverse(nodes_.data(), root.child, root.count, rays.box, lanes, true,
                              &occludedPacketLeaf, &occludedSingleLane, &c, ctx.nodeVisits);
 }
@@ -623,7 +632,8 @@ unsigned BvhAccel::occludedPacket(const ObjectRayPacket& packet, unsigned lanes,
   if (lanes == 0 || nodes_.empty()) return 0;
   BvhPacketRays rays;
   loadPacket(packet, lanes, rays);
-  return occludedLoadedPacket(packet, rays, rays.coherent, ctx) |
+  // loadPacket leaves no lane unmapped, so the walk never writes the packet.
+  return occludedLoadedPacket(const_cast<ObjectRayPacket&>(packet), rays, rays.coherent, ctx) |
          ObjectAccel::occludedPacket(packet, lanes & ~rays.coherent, ctx);
 }
 

@@ -25,6 +25,12 @@ struct BvhPacketRays {
   unsigned coherent = 0;
   /// Lanes of `coherent` in `triangles`: the others are tested lane by lane.
   unsigned filtered = 0;
+  /// Lanes whose ObjectRay in the packet holds only tfar and the ids (an identity instance's
+  /// packet, see mapIdentityPacket): the walk completes one, from worldRays, before a test
+  /// that reads it.
+  unsigned unmappedLanes = 0;
+  /// The world rays of unmappedLanes.
+  const Ray* worldRays = nullptr;
   /// The kernels that walk these rays (those of the instruction set active when loaded): looked
   /// up once per load rather than at every walk entered with them.
   const PacketKernels* kernels = nullptr;
@@ -82,7 +88,7 @@ class BvhAccel final : public ObjectAccel {
                                  Hit* hits, TraversalContext& ctx,
                                  const BvhSubtree& root = {}) const;
   /// occludedPacket for lanes already loaded (see intersectLoadedPacket).
-  unsigned occludedLoadedPacket(const ObjectRayPacket& packet, BvhPacketRays& rays, unsigned lanes,
+  unsigned occludedLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned lanes,
                                 TraversalContext& ctx, const BvhSubtree& root = {}) const;
 
   /// The children of subtree `t` into `out`, with their boxes; returns how many (0 for a leaf,

@@ -25,9 +25,14 @@ namespace tg::detail {
 /// BvhAccel::loadPacket gathers from the object rays, straight from the same rows) and returns
 /// the lanes that share the first lane's axis permutation, which that test takes; the other
 /// lanes' rows hold the first lane's values. Returns 0 without.
+///
+/// Without `writeRays`, out.rays[l] gets only tfar and the ids: a packet walk whose lanes all
+/// take the SIMD tests reads nothing else, and the rest of a lane's ray is made when a lane
+/// needs it (mapIdentityLane). Writing all of it for every lane was a tenth of a museum
+/// packet's time from outside.
 inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
                                   const float* tfar, ObjectRayPacket& out,
-                                  PacketTriangleRays* triangles = nullptr) {
+                                  PacketTriangleRays* triangles = nullptr, bool writeRays = true) {
   PacketRayRows rows;
   loadRayRows(rays, rows);
   // Per lane: kz (the first largest |direction| component, as maxDimension picks it) as the
@@ -77,7 +82,7 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
     for (int a = 0; a < 3; ++a) inverse[a][l] = 1.0f / dir[a];
   }
 #endif
-  for (unsigned m = lanes; m != 0; m &= m - 1) {
+  for (unsigned m = writeRays ? lanes : 0u; m != 0; m &= m - 1) {
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
     ObjectRay& r = out.rays[l];
     WatertightRay& wt = r.wt;
@@ -96,16 +101,23 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
     r.instanceId = inst.instanceId;
     r.objectId = inst.objectId;
   }
+  if (!writeRays) {
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      out.rays[l].tfar = tfar[l];
+      out.rays[l].instanceId = inst.instanceId;
+      out.rays[l].objectId = inst.objectId;
+    }
+  }
   if (triangles == nullptr || lanes == 0) return 0;
   // The permutation is fixed by kz and the swap: lanes whose three bits equal the first lane's.
   const unsigned lead = static_cast<unsigned>(__builtin_ctz(lanes));
   const auto same = [&](unsigned bits) { return (bits >> lead) & 1u ? bits : ~bits; };
   const unsigned filtered = lanes & same(zIsX) & same(zIsY) & same(swapped);
-  const WatertightRay& first = out.rays[lead].wt;
   PacketTriangleRays& tri = *triangles;
-  tri.kx = first.kx;
-  tri.ky = first.ky;
-  tri.kz = first.kz;
+  tri.kz = (zIsX >> lead) & 1u ? 0 : ((zIsY >> lead) & 1u ? 1 : 2);
+  WatertightRay::shearAxes({rows.row[4][lead], rows.row[5][lead], rows.row[6][lead]}, tri.kz,
+                           tri.kx, tri.ky);
 #if defined(__SSE2__)
   if (filtered == (1u << kRayPacketSize) - 1u) {
     // Every lane takes the test (the common case): whole rows, doubles two lanes at a time.
@@ -137,6 +149,14 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
     tri.tnear[l] = rows.row[3][from];
   }
   return filtered;
+}
+
+/// The rest of lane `l`'s object ray after mapIdentityPacket without `writeRays`: the identity
+/// mapping of `ray`, with the tfar and ids the lane holds, as objectRayFor makes it.
+inline void mapIdentityLane(const Ray& ray, ObjectRay& lane) {
+  lane.wt = WatertightRay(ray.origin, ray.direction, ray.tnear);
+  lane.inverseDirection =
+      Vec3f(1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z);
 }
 
 /// Writes out.rays[l] = objectRayFor(inst, rays[l], tfar[l]) for every lane l of `lanes`, bit for

@@ -300,10 +300,21 @@ struct TopLevelPacketWalk {
         const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
         limits[l] = rays[l].tfar;
       }
-      // The triangle rows for a BvhAccel come from the same pass (identityBvhRays).
+      // The triangle rows for a BvhAccel come from the same pass (identityBvhRays). The rest
+      // of each lane's object ray is made when a test needs it (BvhPacketRays::unmappedLanes),
+      // or below for an accelerator that reads the packet's rays themselves.
       identityFiltered =
-          mapIdentityPacket(inst, rays, walkLanes, limits, packet, &identityBvh.triangles);
+          mapIdentityPacket(inst, rays, walkLanes, limits, packet, &identityBvh.triangles, false);
+      identityBvh.unmappedLanes = walkLanes;
+      identityBvh.worldRays = rays;
       identityReady = true;
+    }
+    if (!isBvhAccel(*inst.accel)) {
+      for (unsigned m = identityBvh.unmappedLanes; m != 0; m &= m - 1) {
+        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+        mapIdentityLane(rays[l], packet.rays[l]);
+      }
+      identityBvh.unmappedLanes = 0;
     }
     for (unsigned m = lanes; m != 0; m &= m - 1) {
       const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
@@ -315,6 +326,15 @@ struct TopLevelPacketWalk {
       identityBvh.box.tfar[l] = r.tfar;
     }
     return packet;
+  }
+
+  /// Lane `l` of the identity packet with its whole object ray (see mapIdentityLane).
+  ObjectRay& identityLane(ObjectRayPacket& packet, unsigned l) {
+    if (identityBvh.unmappedLanes & (1u << l)) {
+      mapIdentityLane(rays[l], packet.rays[l]);
+      identityBvh.unmappedLanes &= ~(1u << l);
+    }
+    return packet.rays[l];
   }
 
   /// The loaded form of the identity packet for a BvhAccel, with the tfar of `lanes` as the
@@ -353,7 +373,8 @@ struct TopLevelPacketWalk {
         // identity packet loads every lane of the walk).
         for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
           const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (bvh.intersectSubtree(packet.rays[l], w.hits[l], root.child, root.count, *w.ctx))
+          if (bvh.intersectSubtree(w.identityLane(packet, l), w.hits[l], root.child, root.count,
+                                   *w.ctx))
             changed |= 1u << l;
         }
       } else {
@@ -374,7 +395,7 @@ struct TopLevelPacketWalk {
     for (std::uint32_t k = first; k < first + count && lanes != 0; ++k) {
       const Ref& ref = w.top->refs_[k];
       const InstanceRecord& inst = w.top->instances_[ref.instance];
-      const ObjectRayPacket& packet =
+      ObjectRayPacket& packet =
           w.objectPacket(inst, lanes, [&](unsigned l) { return w.rays[l].tfar; });
       unsigned found = 0;
       if (inst.identity && isBvhAccel(*inst.accel)) {
@@ -385,7 +406,8 @@ struct TopLevelPacketWalk {
         // As in intersectLeaf: lanes outside the packet test walk the subtree alone.
         for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
           const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (bvh.occludedSubtree(packet.rays[l], root.child, root.count, *w.ctx)) found |= 1u << l;
+          if (bvh.occludedSubtree(w.identityLane(packet, l), root.child, root.count, *w.ctx))
+            found |= 1u << l;
         }
       } else {
         found = inst.accel->occludedPacket(packet, lanes, *w.ctx);
