@@ -74,11 +74,11 @@ class BvhAccel final : public ObjectAccel {
   /// Loads the lanes of `packet` in `lanes` into `out` (see BvhPacketRays).
   static void loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPacketRays& out);
   /// loadPacket for the packet of an identity instance (lanes `lanes`, walked with `kernels`),
-  /// whose box rays are
-  /// `world`: the world rays of `lanes`, loaded for the top-level walk (same direction signs,
-  /// unused lanes filled from the first), and whose triangle rows mapIdentityPacket wrote into
-  /// out.triangles, returning `filtered`. The box part is a copy of `world` (lane tfar as
-  /// `world` holds it), equal to what loadPacket computes lane by lane.
+  /// whose box rays are `world`: the world rays of `lanes`, loaded for the top-level walk (same
+  /// direction signs, unused lanes filled from the first), and whose triangle rows
+  /// mapIdentityPacket wrote into out.triangles, returning `filtered`. The box part is a copy of
+  /// `world` (lane tfar as `world` holds it), equal to what loadPacket computes lane by lane.
+  /// out.unmappedLanes and out.worldRays are left as they are (the walk owns them).
   static void loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, unsigned filtered,
                                  const PacketKernels& kernels, BvhPacketRays& out);
   /// intersectPacket for lanes already loaded: `lanes` lie in rays.coherent, and rays.box.tfar

@@ -6,9 +6,9 @@
 // v.store(float*); +, -, *, /; and the lane masks V::anyZero(U, V, W) (some edge function is
 // zero), V::inside(U, V, W) (no two edge functions of opposite sign, and U + V + W not zero,
 // NaN counting as not zero), V::select(bits, a, b) (a in the lanes of `bits`, b elsewhere) and
-// V::inRange(t, tnear, tfar) (tnear <= t <= tfar and t finite,
-// false for NaN). V::Doubles (the same lanes in double) must provide load, broadcast, +, -, *,
-// /, D::nonZero(x) (x != 0, NaN counting as not zero) and V::fromDoubles(D) (rounding to float).
+// V::inRange(t, tnear, tfar) (tnear <= t <= tfar and t finite, false for NaN). V::Doubles (the
+// same lanes in double) must provide load, broadcast, +, -, *, /, D::nonZero(x) (x != 0, NaN
+// counting as not zero) and V::fromDoubles(D) (rounding to float).
 // Plain operators keep the scalar test's order of operations; the kernels are compiled without
 // floating-point contraction, so every lane rounds exactly as intersectWatertight does.
 #pragma once
