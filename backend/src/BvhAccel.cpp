@@ -383,14 +383,8 @@ struct PacketLeafContext {
   /// The packet's rays; the closest-hit callbacks lower the lanes' tfar in it.
   ObjectRayPacket* packet;
 
-  /// Lane `l`'s whole object ray, completed first if the packet holds only its tfar and ids.
-  ObjectRay& lane(unsigned l) const {
-    if (rays->unmappedLanes & (1u << l)) {
-      mapIdentityLane(rays->worldRays[l], packet->rays[l]);
-      rays->unmappedLanes &= ~(1u << l);
-    }
-    return packet->rays[l];
-  }
+  /// Lane `l`'s whole object ray (BvhAccel::packetLane).
+  ObjectRay& lane(unsigned l) const { return BvhAccel::packetLane(*packet, *rays, l); }
 };
 
 /// The closest-hit callbacks' context.
@@ -572,17 +566,19 @@ void BvhAccel::loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, un
   out.kernels = &kernels;
 }
 
+ObjectRay& BvhAccel::packetLane(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned l) {
+  if (rays.unmappedLanes & (1u << l)) {
+    mapIdentityLane(rays.worldRays[l], packet.rays[l]);
+    rays.unmappedLanes &= ~(1u << l);
+  }
+  return packet.rays[l];
+}
+
 unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays,
                                          unsigned lanes, Hit* hits, TraversalContext& ctx,
                                          const BvhSubtree& root) const {
   if (lanes == 0 || nodes_.empty()) return 0;
-  ClosestLeafContext c;
-  c.accel = this;
-  c.ctx = &ctx;
-  c.rays = &rays;
-  c.kernels = rays.kernels;
-  c.packet = &packet;
-  c.hits = hits;
+  ClosestLeafContext c{{this, &ctx, &rays, rays.kernels, &packet}, hits};
   if (laneCount(lanes) < kMinPacketLanes) {
     unsigned changed = 0;
     for (unsigned m = lanes; m != 0; m &= m - 1) {
@@ -600,12 +596,7 @@ unsigned BvhAccel::occludedLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& 
                                         unsigned lanes, TraversalContext& ctx,
                                         const BvhSubtree& root) const {
   if (lanes == 0 || nodes_.empty()) return 0;
-  OccludedLeafContext c;
-  c.accel = this;
-  c.ctx = &ctx;
-  c.rays = &rays;
-  c.kernels = rays.kernels;
-  c.packet = &packet;
+  OccludedLeafContext c{this, &ctx, &rays, rays.kernels, &packet};
   if (laneCount(lanes) < kMinPacketLanes) {
     unsigned blocked = 0;
     for (unsigned m = lanes; m != 0; m &= m - 1) {

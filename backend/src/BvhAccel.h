@@ -81,6 +81,9 @@ class BvhAccel final : public ObjectAccel {
   /// out.unmappedLanes and out.worldRays are left as they are (the walk owns them).
   static void loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, unsigned filtered,
                                  const PacketKernels& kernels, BvhPacketRays& out);
+  /// Lane `l` of `packet` with its whole object ray: made first, from rays.worldRays, when the
+  /// lane is in rays.unmappedLanes (which it then leaves).
+  static ObjectRay& packetLane(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned l);
   /// intersectPacket for lanes already loaded: `lanes` lie in rays.coherent, and rays.box.tfar
   /// of each equals its packet ray's tfar. Returns the lanes whose hit changed.
   /// `root` limits the walk to one subtree (BvhSubtree); the default is the whole tree.

@@ -26,10 +26,10 @@ namespace tg::detail {
 /// the lanes that share the first lane's axis permutation, which that test takes; the other
 /// lanes' rows hold the first lane's values. Returns 0 without.
 ///
-/// Without `writeRays`, out.rays[l] gets only tfar and the ids: a packet walk whose lanes all
-/// take the SIMD tests reads nothing else, and the rest of a lane's ray is made when a lane
-/// needs it (mapIdentityLane). Writing all of it for every lane was a tenth of a museum
-/// packet's time from outside.
+/// Without `writeRays`, out.rays is left as it is and `tfar` is not read (it may be null): a
+/// packet walk whose lanes all take the SIMD tests reads only the tfar and ids it sets itself,
+/// and a lane's ray is made when a test needs it (mapIdentityLane). Writing all of it for every
+/// lane was a tenth of a museum packet's time from outside.
 inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
                                   const float* tfar, ObjectRayPacket& out,
                                   PacketTriangleRays* triangles = nullptr, bool writeRays = true) {
@@ -101,14 +101,6 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
     r.instanceId = inst.instanceId;
     r.objectId = inst.objectId;
   }
-  if (!writeRays) {
-    for (unsigned m = lanes; m != 0; m &= m - 1) {
-      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-      out.rays[l].tfar = tfar[l];
-      out.rays[l].instanceId = inst.instanceId;
-      out.rays[l].objectId = inst.objectId;
-    }
-  }
   if (triangles == nullptr || lanes == 0) return 0;
   // The permutation is fixed by kz and the swap: lanes whose three bits equal the first lane's.
   const unsigned lead = static_cast<unsigned>(__builtin_ctz(lanes));
@@ -151,8 +143,8 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
   return filtered;
 }
 
-/// The rest of lane `l`'s object ray after mapIdentityPacket without `writeRays`: the identity
-/// mapping of `ray`, with the tfar and ids the lane holds, as objectRayFor makes it.
+/// Lane `lane`'s object ray after mapIdentityPacket without `writeRays`: the identity mapping of
+/// `ray` as objectRayFor makes it, keeping the tfar and ids the lane holds.
 inline void mapIdentityLane(const Ray& ray, ObjectRay& lane) {
   lane.wt = WatertightRay(ray.origin, ray.direction, ray.tnear);
   lane.inverseDirection =

@@ -295,27 +295,18 @@ struct TopLevelPacketWalk {
     }
     ObjectRayPacket& packet = identity.get();
     if (!identityReady) {
-      float limits[kRayPacketSize];
-      for (unsigned m = walkLanes; m != 0; m &= m - 1) {
-        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-        limits[l] = rays[l].tfar;
-      }
-      // The triangle rows for a BvhAccel come from the same pass (identityBvhRays). The rest
-      // of each lane's object ray is made when a test needs it (BvhPacketRays::unmappedLanes),
-      // or below for an accelerator that reads the packet's rays themselves.
+      // The triangle rows for a BvhAccel come from the same pass (identityBvhRays). The lanes'
+      // object rays are made when a test needs one (BvhAccel::packetLane), or below for an
+      // accelerator that reads the packet's rays themselves; tfar and the ids are set below.
       identityFiltered =
-          mapIdentityPacket(inst, rays, walkLanes, limits, packet, &identityBvh.triangles, false);
+          mapIdentityPacket(inst, rays, walkLanes, nullptr, packet, &identityBvh.triangles, false);
       identityBvh.unmappedLanes = walkLanes;
       identityBvh.worldRays = rays;
       identityReady = true;
     }
-    if (!isBvhAccel(*inst.accel)) {
-      for (unsigned m = identityBvh.unmappedLanes; m != 0; m &= m - 1) {
-        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-        mapIdentityLane(rays[l], packet.rays[l]);
-      }
-      identityBvh.unmappedLanes = 0;
-    }
+    if (!isBvhAccel(*inst.accel))
+      for (unsigned m = identityBvh.unmappedLanes; m != 0; m &= m - 1)
+        BvhAccel::packetLane(packet, identityBvh, static_cast<unsigned>(__builtin_ctz(m)));
     for (unsigned m = lanes; m != 0; m &= m - 1) {
       const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
       ObjectRay& r = packet.rays[l];
@@ -326,15 +317,6 @@ struct TopLevelPacketWalk {
       identityBvh.box.tfar[l] = r.tfar;
     }
     return packet;
-  }
-
-  /// Lane `l` of the identity packet with its whole object ray (see mapIdentityLane).
-  ObjectRay& identityLane(ObjectRayPacket& packet, unsigned l) {
-    if (identityBvh.unmappedLanes & (1u << l)) {
-      mapIdentityLane(rays[l], packet.rays[l]);
-      identityBvh.unmappedLanes &= ~(1u << l);
-    }
-    return packet.rays[l];
   }
 
   /// The loaded form of the identity packet for a BvhAccel, with the tfar of `lanes` as the
@@ -373,8 +355,8 @@ struct TopLevelPacketWalk {
         // identity packet loads every lane of the walk).
         for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
           const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (bvh.intersectSubtree(w.identityLane(packet, l), w.hits[l], root.child, root.count,
-                                   *w.ctx))
+          if (bvh.intersectSubtree(BvhAccel::packetLane(packet, w.identityBvh, l), w.hits[l],
+                                   root.child, root.count, *w.ctx))
             changed |= 1u << l;
         }
       } else {
@@ -406,7 +388,8 @@ struct TopLevelPacketWalk {
         // As in intersectLeaf: lanes outside the packet test walk the subtree alone.
         for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
           const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (bvh.occludedSubtree(w.identityLane(packet, l), root.child, root.count, *w.ctx))
+          if (bvh.occludedSubtree(BvhAccel::packetLane(packet, w.identityBvh, l), root.child,
+                                  root.count, *w.ctx))
             found |= 1u << l;
         }
       } else {
