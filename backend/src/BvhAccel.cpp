@@ -568,7 +568,18 @@ void BvhAccel::loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, un
 
 ObjectRay& BvhAccel::packetLane(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned l) {
   if (rays.unmappedLanes & (1u << l)) {
-    mapIdentityLane(rays.worldRays[l], packet.rays[l]);
+    ObjectRay& lane = packet.rays[l];
+    const Ray& ray = rays.worldRays[l];
+    if (rays.worldToObject == nullptr) {
+      mapIdentityLane(ray, lane);
+    } else {
+      // objectRayFor's transformed mapping, keeping the lane's tfar and ids.
+      const Affine3d& m = *rays.worldToObject;
+      lane.wt = WatertightRay(m.transformPoint(Vec3d(ray.origin)),
+                              m.transformVector(Vec3d(ray.direction)), ray.tnear);
+      lane.inverseDirection =
+          Vec3f(1.0f / lane.wt.direction.x, 1.0f / lane.wt.direction.y, 1.0f / lane.wt.direction.z);
+    }
     rays.unmappedLanes &= ~(1u << l);
   }
   return packet.rays[l];

@@ -7,6 +7,7 @@
 #include "BvhBuilder.h"
 #include "BvhMortonBuilder.h"
 #include "PacketKernel.h"
+#include "tracegraph/backend/Affine.h"
 #include "tracegraph/backend/KdTree.h"
 #include "tracegraph/backend/ObjectAccel.h"
 
@@ -26,11 +27,14 @@ struct BvhPacketRays {
   /// Lanes of `coherent` in `triangles`: the others are tested lane by lane.
   unsigned filtered = 0;
   /// Lanes whose ObjectRay in the packet holds only tfar and the ids (an identity instance's
-  /// packet, see mapIdentityPacket): the walk completes one, from worldRays, before a test
-  /// that reads it.
+  /// packet, see mapIdentityPacket, or a transformed one's, see loadTransformedPacket): the
+  /// walk completes one, from worldRays, before a test that reads it.
   unsigned unmappedLanes = 0;
   /// The world rays of unmappedLanes.
   const Ray* worldRays = nullptr;
+  /// The instance's world-to-object matrix that maps worldRays (objectRayFor); null for an
+  /// identity instance.
+  const Affine3d* worldToObject = nullptr;
   /// The kernels that walk these rays (those of the instruction set active when loaded): looked
   /// up once per load rather than at every walk entered with them.
   const PacketKernels* kernels = nullptr;

@@ -15,31 +15,36 @@
 
 namespace tg::detail {
 
-/// mapPacketToObject for an identity instance, whose object rays are the world rays: the axis
-/// permutation, shear constants and reciprocals of all eight lanes from the rays' rows, four
-/// lanes per instruction where SSE is available, then one pass of stores per lane. Choosing the
-/// permutation per lane and scattering the divisions' operands were most of the scalar
-/// mapping's work.
-///
-/// With `triangles`, also writes the SIMD triangle test's rows of `lanes` (what
-/// BvhAccel::loadPacket gathers from the object rays, straight from the same rows) and returns
-/// the lanes that share the first lane's axis permutation, which that test takes; the other
-/// lanes' rows hold the first lane's values. Returns 0 without.
-///
-/// Without `writeRays`, out.rays is left as it is and `tfar` is not read (it may be null): a
-/// packet walk whose lanes all take the SIMD tests reads only the tfar and ids it sets itself,
-/// and a lane's ray is made when a test needs it (mapIdentityLane). Writing all of it for every
-/// lane was a tenth of a museum packet's time from outside.
-inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
-                                  const float* tfar, ObjectRayPacket& out,
-                                  PacketTriangleRays* triangles = nullptr, bool writeRays = true) {
-  PacketRayRows rows;
-  loadRayRows(rays, rows);
-  // Per lane: kz (the first largest |direction| component, as maxDimension picks it) as the
-  // bits of zIsX / zIsY (neither: z), and the shear constants and reciprocals. Lanes outside
-  // `lanes` compute numbers nobody reads.
+/// The watertight test's per-lane constants of eight directions, given as rows of lanes: the
+/// axis permutation (kz, the first largest |direction| component as maxDimension picks it, as
+/// the bits of zIsX and zIsY, neither meaning z; the swap of kx and ky when dir[kz] < 0), the
+/// shear constants and the reciprocal direction. Quotients are correctly rounded whether
+/// computed alone or four to a vector, so every value equals WatertightRay's.
+struct PacketShear {
+  unsigned zIsX = 0;                             ///< lanes whose kz is x
+  unsigned zIsY = 0;                             ///< lanes whose kz is y
+  unsigned swapped = 0;                          ///< lanes whose dir[kz] < 0
+  alignas(16) float sx[kRayPacketSize];          ///< WatertightRay::sx per lane
+  alignas(16) float sy[kRayPacketSize];          ///< WatertightRay::sy per lane
+  alignas(16) float inverse[3][kRayPacketSize];  ///< 1 / direction per axis and lane
+
+  /// kz of lane `l` (0, 1 or 2).
+  int kz(unsigned l) const { return (zIsX >> l) & 1u ? 0 : ((zIsY >> l) & 1u ? 1 : 2); }
+  /// The lanes of `lanes` whose axis permutation is lane `lead`'s.
+  unsigned samePermutation(unsigned lanes, unsigned lead) const {
+    const auto same = [&](unsigned bits) { return (bits >> lead) & 1u ? bits : ~bits; };
+    return lanes & same(zIsX) & same(zIsY) & same(swapped);
+  }
+};
+
+/// Fills `out` from the direction rows xRow, yRow and zRow (16-byte aligned, kRayPacketSize
+/// lanes each), four lanes per instruction where SSE is available. Every lane is computed:
+/// lanes nobody uses give numbers nobody reads.
+inline void shearPacket(const float* xRow, const float* yRow, const float* zRow, PacketShear& out) {
   unsigned zIsX = 0, zIsY = 0, swapped = 0;
-  alignas(16) float sx[kRayPacketSize], sy[kRayPacketSize], inverse[3][kRayPacketSize];
+  float* sx = out.sx;
+  float* sy = out.sy;
+  float(&inverse)[3][kRayPacketSize] = out.inverse;
 #if defined(__SSE2__)
   const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
   const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
@@ -47,8 +52,7 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
     return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
   };
   for (unsigned h = 0; h < kRayPacketSize; h += 4) {
-    const __m128 dx = _mm_load_ps(rows.row[4] + h), dy = _mm_load_ps(rows.row[5] + h),
-                 dz = _mm_load_ps(rows.row[6] + h);
+    const __m128 dx = _mm_load_ps(xRow + h), dy = _mm_load_ps(yRow + h), dz = _mm_load_ps(zRow + h);
     const __m128 ax = _mm_and_ps(dx, absMask), ay = _mm_and_ps(dy, absMask),
                  az = _mm_and_ps(dz, absMask);
     const __m128 xGeY = _mm_cmpge_ps(ax, ay);
@@ -70,7 +74,7 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
   }
 #else
   for (unsigned l = 0; l < kRayPacketSize; ++l) {
-    const Vec3f dir{rows.row[4][l], rows.row[5][l], rows.row[6][l]};
+    const Vec3f dir{xRow[l], yRow[l], zRow[l]};
     const int kz = maxDimension(abs(dir));
     zIsX |= (kz == 0 ? 1u : 0u) << l;
     zIsY |= (kz == 1 ? 1u : 0u) << l;
@@ -82,6 +86,36 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
     for (int a = 0; a < 3; ++a) inverse[a][l] = 1.0f / dir[a];
   }
 #endif
+  out.zIsX = zIsX;
+  out.zIsY = zIsY;
+  out.swapped = swapped;
+}
+
+/// mapPacketToObject for an identity instance, whose object rays are the world rays: the axis
+/// permutation, shear constants and reciprocals of all eight lanes from the rays' rows, four
+/// lanes per instruction where SSE is available, then one pass of stores per lane. Choosing the
+/// permutation per lane and scattering the divisions' operands were most of the scalar
+/// mapping's work.
+///
+/// With `triangles`, also writes the SIMD triangle test's rows of `lanes` (what
+/// BvhAccel::loadPacket gathers from the object rays, straight from the same rows) and returns
+/// the lanes that share the first lane's axis permutation, which that test takes; the other
+/// lanes' rows hold the first lane's values. Returns 0 without.
+///
+/// Without `writeRays`, out.rays is left as it is and `tfar` is not read (it may be null): a
+/// packet walk whose lanes all take the SIMD tests reads only the tfar and ids it sets itself,
+/// and a lane's ray is made when a test needs it (mapIdentityLane). Writing all of it for every
+/// lane was a tenth of a museum packet's time from outside.
+inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
+                                  const float* tfar, ObjectRayPacket& out,
+                                  PacketTriangleRays* triangles = nullptr, bool writeRays = true) {
+  PacketRayRows rows;
+  loadRayRows(rays, rows);
+  PacketShear shear;
+  shearPacket(rows.row[4], rows.row[5], rows.row[6], shear);
+  const float* sx = shear.sx;
+  const float* sy = shear.sy;
+  const auto& inverse = shear.inverse;
   for (unsigned m = writeRays ? lanes : 0u; m != 0; m &= m - 1) {
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
     ObjectRay& r = out.rays[l];
@@ -91,7 +125,7 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
     wt.originD = Vec3d(wt.origin);
     wt.directionD = Vec3d(wt.direction);
     wt.tnear = rows.row[3][l];
-    wt.kz = (zIsX >> l) & 1u ? 0 : ((zIsY >> l) & 1u ? 1 : 2);
+    wt.kz = shear.kz(l);
     WatertightRay::shearAxes(wt.direction, wt.kz, wt.kx, wt.ky);
     wt.sx = sx[l];
     wt.sy = sy[l];
@@ -104,10 +138,9 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
   if (triangles == nullptr || lanes == 0) return 0;
   // The permutation is fixed by kz and the swap: lanes whose three bits equal the first lane's.
   const unsigned lead = static_cast<unsigned>(__builtin_ctz(lanes));
-  const auto same = [&](unsigned bits) { return (bits >> lead) & 1u ? bits : ~bits; };
-  const unsigned filtered = lanes & same(zIsX) & same(zIsY) & same(swapped);
+  const unsigned filtered = shear.samePermutation(lanes, lead);
   PacketTriangleRays& tri = *triangles;
-  tri.kz = (zIsX >> lead) & 1u ? 0 : ((zIsY >> lead) & 1u ? 1 : 2);
+  tri.kz = shear.kz(lead);
   WatertightRay::shearAxes({rows.row[4][lead], rows.row[5][lead], rows.row[6][lead]}, tri.kz,
                            tri.kx, tri.ky);
 #if defined(__SSE2__)

@@ -13,6 +13,7 @@
 #include "BvhAccel.h"
 #include "PacketObjectRays.h"
 #include "PacketRays.h"
+#include "PacketTransformedRays.h"
 
 namespace tg::detail {
 namespace {
@@ -279,6 +280,8 @@ struct TopLevelPacketWalk {
   /// `identity` loaded for BvhAccel; valid once identityBvhReady.
   BvhPacketRays identityBvh;
   bool identityBvhReady = false;
+  /// `mapped` loaded for the transformed BvhAccel instance being entered.
+  BvhPacketRays transformedBvh;
 
   /// The object packet of `inst` for `lanes`, lane l limited to tfar(l); equal, lane by lane, to
   /// objectRayFor(inst, rays[l], tfar(l)).
@@ -319,6 +322,20 @@ struct TopLevelPacketWalk {
     return packet;
   }
 
+  /// `mapped` and transformedBvh for transformed BvhAccel instance `inst` and `lanes`, lane l
+  /// limited to tfar(l) (loadTransformedPacket): the lanes' object rays are made only when a
+  /// test reads one.
+  template <class Tfar>
+  BvhPacketRays& loadTransformed(const InstanceRecord& inst, unsigned lanes, const Tfar& tfar) {
+    float limits[kRayPacketSize];
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      limits[l] = tfar(l);
+    }
+    loadTransformedPacket(inst, rays, lanes, limits, *kernels, mapped.get(), transformedBvh);
+    return transformedBvh;
+  }
+
   /// The loaded form of the identity packet for a BvhAccel, with the tfar of `lanes` as the
   /// packet holds it now (objectPacket must have been called for them, and keeps the loaded
   /// tfar once loaded); `world` holds the walk's box rays.
@@ -341,11 +358,23 @@ struct TopLevelPacketWalk {
     for (std::uint32_t k = first; k < first + count; ++k) {
       const Ref& ref = w.top->refs_[k];
       const InstanceRecord& inst = w.top->instances_[ref.instance];
-      ObjectRayPacket& packet = w.objectPacket(inst, lanes, [&](unsigned l) {
+      const auto tfar = [&](unsigned l) {
         return w.hits[l].t < w.rays[l].tfar ? w.hits[l].t : w.rays[l].tfar;
-      });
+      };
       unsigned changed = 0;
-      if (inst.identity && isBvhAccel(*inst.accel)) {
+      if (!inst.identity && isBvhAccel(*inst.accel)) {
+        ObjectRayPacket& packet = w.mapped.get();
+        BvhPacketRays& loaded = w.loadTransformed(inst, lanes, tfar);
+        const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+        changed = bvh.intersectLoadedPacket(packet, loaded, loaded.coherent, w.hits, *w.ctx);
+        // Lanes with other object-space direction signs than the first walk alone.
+        for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
+          const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+          if (bvh.intersect(BvhAccel::packetLane(packet, loaded, l), w.hits[l], *w.ctx))
+            changed |= 1u << l;
+        }
+      } else if (ObjectRayPacket& packet = w.objectPacket(inst, lanes, tfar);
+                 inst.identity && isBvhAccel(*inst.accel)) {
         BvhPacketRays& loaded = w.identityBvhRays(lanes, boxRays);
         const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
         const BvhSubtree root = ref.subtree();
@@ -377,10 +406,19 @@ struct TopLevelPacketWalk {
     for (std::uint32_t k = first; k < first + count && lanes != 0; ++k) {
       const Ref& ref = w.top->refs_[k];
       const InstanceRecord& inst = w.top->instances_[ref.instance];
-      ObjectRayPacket& packet =
-          w.objectPacket(inst, lanes, [&](unsigned l) { return w.rays[l].tfar; });
+      const auto tfar = [&](unsigned l) { return w.rays[l].tfar; };
       unsigned found = 0;
-      if (inst.identity && isBvhAccel(*inst.accel)) {
+      if (!inst.identity && isBvhAccel(*inst.accel)) {
+        ObjectRayPacket& packet = w.mapped.get();
+        BvhPacketRays& loaded = w.loadTransformed(inst, lanes, tfar);
+        const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+        found = bvh.occludedLoadedPacket(packet, loaded, loaded.coherent, *w.ctx);
+        for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
+          const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+          if (bvh.occluded(BvhAccel::packetLane(packet, loaded, l), *w.ctx)) found |= 1u << l;
+        }
+      } else if (ObjectRayPacket& packet = w.objectPacket(inst, lanes, tfar);
+                 inst.identity && isBvhAccel(*inst.accel)) {
         BvhPacketRays& loaded = w.identityBvhRays(lanes, boxRays);
         const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
         const BvhSubtree root = ref.subtree();

@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "PacketObjectRays.h"
+#include "PacketTransformedRays.h"
 #include "TestGeometry.h"
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/backend/Simd.h"
@@ -248,12 +249,38 @@ bool sameObjectRay(const ObjectRay& a, const ObjectRay& b) {
   return same;
 }
 
+/// A packet of rays for trial `trial` of the mapping tests: random origins and directions with
+/// zero components of either sign and ties for the largest component among them.
+void makeMappingRays(std::mt19937& rng, int trial, Ray (&rays)[kRayPacketSize],
+                     float (&tfar)[kRayPacketSize]) {
+  std::uniform_real_distribution<float> coord(-50.0f, 50.0f);
+  for (unsigned l = 0; l < kRayPacketSize; ++l) {
+    const unsigned t = static_cast<unsigned>(trial) + l;
+    rays[l].origin = {coord(rng), coord(rng), coord(rng)};
+    rays[l].direction = {coord(rng), coord(rng), coord(rng)};
+    if (t % 5 == 0) rays[l].direction.x = 0.0f;
+    if (t % 7 == 0) rays[l].direction.y = -0.0f;
+    // Ties for the largest component, which the axis permutation breaks towards x, then y.
+    if (t % 11 == 3) rays[l].direction.z = -rays[l].direction.x;
+    if (t % 13 == 4) rays[l].direction.y = rays[l].direction.z;
+    if (t % 17 == 5) rays[l].direction = {-2.0f, 2.0f, -2.0f};
+    rays[l].tnear = static_cast<float>(l) * 0.25f;
+    tfar[l] = 10.0f + static_cast<float>(l);
+  }
+}
+
+/// The lanes of mapping trial `trial`: all of them, or a pseudo-random non-empty subset.
+unsigned mappingLanes(int trial) {
+  const unsigned all = (1u << kRayPacketSize) - 1u;
+  const unsigned lanes = trial % 4 == 0 ? all : (static_cast<unsigned>(trial) * 37u) & all;
+  return lanes != 0 ? lanes : 1u;
+}
+
 BOOST_AUTO_TEST_CASE(packet_object_rays_equal_single_mapping) {
   // The packet walk maps its lanes into an instance with vector divisions; each lane must be the
   // object ray the single-ray walk builds, for identity and transformed instances alike, with
   // zero direction components of either sign among them.
   std::mt19937 rng(31);
-  std::uniform_real_distribution<float> coord(-50.0f, 50.0f);
   for (int trial = 0; trial < 200; ++trial) {
     InstanceRecord inst;
     inst.identity = trial % 3 == 0;
@@ -262,26 +289,83 @@ BOOST_AUTO_TEST_CASE(packet_object_rays_equal_single_mapping) {
     inst.objectId = static_cast<std::uint32_t>(trial / 2);
     Ray rays[kRayPacketSize];
     float tfar[kRayPacketSize];
-    for (unsigned l = 0; l < kRayPacketSize; ++l) {
-      rays[l].origin = {coord(rng), coord(rng), coord(rng)};
-      rays[l].direction = {coord(rng), coord(rng), coord(rng)};
-      if ((trial + l) % 5 == 0) rays[l].direction.x = 0.0f;
-      if ((trial + l) % 7 == 0) rays[l].direction.y = -0.0f;
-      // Ties for the largest component, which the axis permutation breaks towards x, then y.
-      if ((trial + l) % 11 == 3) rays[l].direction.z = -rays[l].direction.x;
-      if ((trial + l) % 13 == 4) rays[l].direction.y = rays[l].direction.z;
-      if ((trial + l) % 17 == 5) rays[l].direction = {-2.0f, 2.0f, -2.0f};
-      rays[l].tnear = static_cast<float>(l) * 0.25f;
-      tfar[l] = 10.0f + static_cast<float>(l);
-    }
-    const unsigned all = (1u << kRayPacketSize) - 1u;
-    const unsigned lanes = trial % 4 == 0 ? all : (static_cast<unsigned>(trial) * 37u) & all;
+    makeMappingRays(rng, trial, rays, tfar);
+    const unsigned lanes = mappingLanes(trial);
     ObjectRayPacket packet;
     detail::mapPacketToObject(inst, rays, lanes, tfar, packet);
     for (unsigned l = 0; l < kRayPacketSize; ++l) {
       if (!(lanes & (1u << l))) continue;
       BOOST_TEST(sameObjectRay(packet.rays[l], objectRayFor(inst, rays[l], tfar[l])),
                  "trial " << trial << " lane " << l);
+    }
+  }
+}
+
+/// Every float (or double) of rows `a` and `b`, bit for bit.
+template <class T, std::size_t N>
+bool sameRows(const T (&a)[N], const T (&b)[N]) {
+  for (std::size_t i = 0; i < N; ++i)
+    if (!sameBits(a[i], b[i])) return false;
+  return true;
+}
+
+BOOST_AUTO_TEST_CASE(transformed_packets_load_as_mapped_object_rays) {
+  // The packet walk loads a transformed instance's rows straight from the world rays and makes
+  // a lane's object ray only when a test reads it: rows, lane sets and the rays made later must
+  // all be what mapping every lane (objectRayFor) and loading them (loadPacket) give.
+  std::mt19937 rng(43);
+  const detail::PacketKernels& kernels = detail::activePacketKernels();
+  for (int trial = 0; trial < 300; ++trial) {
+    InstanceRecord inst;
+    inst.worldToObjectD = *randomTransform(rng, 20.0, true).inverse();
+    inst.instanceId = static_cast<std::uint32_t>(trial);
+    inst.objectId = static_cast<std::uint32_t>(trial / 3);
+    Ray rays[kRayPacketSize];
+    float tfar[kRayPacketSize];
+    makeMappingRays(rng, trial, rays, tfar);
+    const unsigned lanes = mappingLanes(trial);
+
+    ObjectRayPacket mapped;
+    detail::mapPacketToObject(inst, rays, lanes, tfar, mapped);
+    detail::BvhPacketRays expected;
+    detail::BvhAccel::loadPacket(mapped, lanes, expected);
+
+    ObjectRayPacket lazy;
+    detail::BvhPacketRays loaded;
+    detail::loadTransformedPacket(inst, rays, lanes, tfar, kernels, lazy, loaded);
+    BOOST_TEST_CONTEXT("trial " << trial) {
+      BOOST_TEST(loaded.coherent == expected.coherent);
+      BOOST_TEST(loaded.filtered == expected.filtered);
+      BOOST_TEST(loaded.unmappedLanes == lanes);
+      BOOST_TEST(sameRows(loaded.box.origin[0], expected.box.origin[0]));
+      BOOST_TEST(sameRows(loaded.box.origin[1], expected.box.origin[1]));
+      BOOST_TEST(sameRows(loaded.box.origin[2], expected.box.origin[2]));
+      BOOST_TEST(sameRows(loaded.box.reciprocal[0], expected.box.reciprocal[0]));
+      BOOST_TEST(sameRows(loaded.box.reciprocal[1], expected.box.reciprocal[1]));
+      BOOST_TEST(sameRows(loaded.box.reciprocal[2], expected.box.reciprocal[2]));
+      BOOST_TEST(sameRows(loaded.box.tnear, expected.box.tnear));
+      BOOST_TEST(sameRows(loaded.box.tfar, expected.box.tfar));
+      for (int a = 0; a < 3; ++a) {
+        BOOST_TEST(loaded.box.nearRow[a] == expected.box.nearRow[a]);
+        BOOST_TEST(loaded.box.farRow[a] == expected.box.farRow[a]);
+      }
+      const detail::PacketTriangleRays& t = loaded.triangles;
+      const detail::PacketTriangleRays& e = expected.triangles;
+      BOOST_TEST((t.kx == e.kx && t.ky == e.ky && t.kz == e.kz));
+      for (int a = 0; a < 3; ++a) {
+        BOOST_TEST(sameRows(t.origin[a], e.origin[a]));
+        BOOST_TEST(sameRows(t.originD[a], e.originD[a]));
+        BOOST_TEST(sameRows(t.directionD[a], e.directionD[a]));
+      }
+      BOOST_TEST(sameRows(t.sx, e.sx));
+      BOOST_TEST(sameRows(t.sy, e.sy));
+      BOOST_TEST(sameRows(t.tnear, e.tnear));
+      for (unsigned m = lanes; m != 0; m &= m - 1) {
+        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+        BOOST_TEST(sameObjectRay(detail::BvhAccel::packetLane(lazy, loaded, l), mapped.rays[l]),
+                   "lane " << l);
+      }
+      BOOST_TEST(loaded.unmappedLanes == 0u);
     }
   }
 }
