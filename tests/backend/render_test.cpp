@@ -777,8 +777,10 @@ Vec3f referenceOpenGlPixel(const TestScene& ts, const Camera& cam, std::uint32_t
 }  // namespace
 
 BOOST_AUTO_TEST_CASE(point_light_terms_match_the_scalar_shading_bit_for_bit) {
-  // The shader takes point lights four at a time; seven lights fill one quad and part of the
-  // next, with every way a light can drop out, attenuation, and highlights.
+  // The shader takes point lights four at a time, or eight with AVX2 when none is attenuated;
+  // seven lights fill one group and part of the next (or most of one), with every way a light
+  // can drop out, attenuation, and highlights. Every SIMD kernel set must give the scalar
+  // shading's bits, with the attenuated lights and without them.
   TestScene ts;
   Material floor = diffuseMaterial({0.6f, 0.5f, 0.4f});
   floor.specular = {0.3f, 0.3f, 0.3f};
@@ -804,18 +806,28 @@ BOOST_AUTO_TEST_CASE(point_light_terms_match_the_scalar_shading_bit_for_bit) {
   // The reference computes with denormals, as the test runs.
   RenderSettings settings = settingsFor(RenderMode::OpenGL);
   settings.flushDenormals = false;
+  const SimdIsa saved = activeSimdIsa();
   auto compare = [&] {
-    const Frame f = render(ts, cam, settings);
-    for (std::uint32_t y = 0; y < h; ++y)
-      for (std::uint32_t x = 0; x < w; ++x) {
-        const Vec3f got = f.beauty.rgb(x, y), want = referenceOpenGlPixel(ts, cam, x, y);
-        differing += std::memcmp(&got, &want, sizeof got) != 0;
-        highlighted += want.x > want.y + 0.3f;  // the box is green; a white highlight evens it
-      }
+    for (SimdIsa isa : supportedSimdIsas()) {
+      BOOST_REQUIRE(setSimdIsa(isa));
+      const Frame f = render(ts, cam, settings);
+      for (std::uint32_t y = 0; y < h; ++y)
+        for (std::uint32_t x = 0; x < w; ++x) {
+          const Vec3f got = f.beauty.rgb(x, y), want = referenceOpenGlPixel(ts, cam, x, y);
+          differing += std::memcmp(&got, &want, sizeof got) != 0;
+          highlighted += want.x > want.y + 0.3f;  // the box is green; a white highlight evens it
+        }
+    }
+    setSimdIsa(saved);
   };
   compare();
   BOOST_TEST(differing == 0u);
   BOOST_TEST(highlighted > 0u);
+  const std::vector<PointLight> attenuatedLights = ts.rs.pointLights;
+  for (PointLight& l : ts.rs.pointLights) l.attenuation = {};
+  compare();
+  BOOST_TEST(differing == 0u);
+  ts.rs.pointLights = attenuatedLights;
   // Highlights too faint to change the diffuse term skip their power: vary the exponent, how
   // bright the highlight is against the diffuse term, and a diffuse channel of 0, which
   // absorbs nothing.
@@ -829,6 +841,9 @@ BOOST_AUTO_TEST_CASE(point_light_terms_match_the_scalar_shading_bit_for_bit) {
         }
         compare();
       }
+  BOOST_TEST(differing == 0u);
+  for (PointLight& l : ts.rs.pointLights) l.attenuation = {};
+  compare();
   BOOST_TEST(differing == 0u);
 }
 

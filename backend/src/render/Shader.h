@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "LightTerms.h"
 #include "tracegraph/backend/ObjectAccel.h"
 #include "tracegraph/backend/render/RayOffset.h"
 #include "tracegraph/backend/render/RenderScene.h"
@@ -109,14 +110,6 @@ struct WaveScratch {
   std::vector<std::uint8_t> blocked;
 };
 
-/// Four point lights of a frame by coordinate, so that the shader computes their terms at a
-/// surface point four at a time (see pointLightTerms in Shading.cpp).
-struct PointLightQuad {
-  std::array<float, 4> x{}, y{}, z{};  ///< positions
-  std::array<float, 4> r{}, g{}, b{};  ///< colours, before any attenuation
-  bool attenuated = false;             ///< some light of the quad has distance attenuation
-};
-
 /// Traces and shades rays for one mode.
 class Shader {
  public:
@@ -156,6 +149,11 @@ class Shader {
   /// sh.color plus every light's term at `sh`, unshadowed (OpenGL mode): what shadeHit sums
   /// through forEachLightTerm when no light needs a shadow ray.
   Vec3f unshadowedColor(const SurfaceShading& sh) const;
+  /// Calls fn(first, present, added, rgb) for each group of point lights in light order, with
+  /// the terms at `sh` of lights first + j (LightGroupTerms: bit j of present and added, and
+  /// row j of rgb), computed several lights at a time.
+  template <typename Fn>
+  void forEachPointLightGroup(const SurfaceShading& sh, Fn&& fn) const;
   /// Number of lights of the scene (point, directional and spot).
   std::size_t lightCount() const;
   /// sh.color plus the reflected and refracted light (Whitted mode).
@@ -183,8 +181,13 @@ class Shader {
   RenderSettings settings_;
   bool whitted_;
   std::vector<HighlightLimits> highlightLimits_;  ///< by material index (see Shading.cpp)
-  Material defaultMaterial_{};              ///< for hits without a material, as RenderScene gives
-  std::vector<PointLightQuad> pointQuads_;  ///< rs_.pointLights by four
+  Material defaultMaterial_{};  ///< for hits without a material, as RenderScene gives
+  /// rs_.pointLights by four, for the baseline light terms (when pointTerms8_ is null).
+  std::vector<PointLightGroup<4>> pointGroups4_;
+  /// rs_.pointLights by eight, for pointTerms8_.
+  std::vector<PointLightGroup<8>> pointGroups8_;
+  /// The eight-light terms of a wider instruction set, or null.
+  PointLightTerms8Fn pointTerms8_ = nullptr;
 };
 
 }  // namespace tg::detail

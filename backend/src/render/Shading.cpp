@@ -8,7 +8,9 @@
 #include <emmintrin.h>
 #endif
 
+#include "PointLightTermsImpl.h"
 #include "Shader.h"
+#include "tracegraph/backend/Simd.h"
 #include "tracegraph/backend/render/Optics.h"
 
 namespace tg::detail {
@@ -108,249 +110,218 @@ std::optional<Vec3f> otherLightTerm(const SurfaceShading& sh, const LightSample&
 }
 
 #if defined(__SSE2__)
-/// Four floats, one per light of a PointLightQuad. Every operation is the IEEE operation of the
-/// scalar code, lane by lane, so a lane holds bit for bit what the scalar code computes.
-struct Lanes {
+/// Four floats, one per light of a PointLightGroup<4>. Every operation is the IEEE operation of
+/// the scalar code, lane by lane, so a lane holds bit for bit what the scalar code computes.
+struct Lanes4 {
+  static constexpr std::size_t kWidth = 4;
   __m128 v;
+
+  static Lanes4 load(const float* a) { return {_mm_loadu_ps(a)}; }
+  static Lanes4 splat(float f) { return {_mm_set1_ps(f)}; }
+  /// Lanes f(0) to f(3), put together in registers: stored one by one and loaded as a vector,
+  /// they would wait for the stores to retire (no store forwarding).
+  template <typename F>
+  static Lanes4 fromScalars(const F& f) {
+    return {_mm_setr_ps(f(0), f(1), f(2), f(3))};
+  }
+  static void store(const Lanes4& a, float* out) { _mm_storeu_ps(out, a.v); }
+  /// A true/false per lane, as SSE comparisons give it (all bits set or clear).
+  struct Mask {
+    __m128 v;
+  };
+  static Mask allLanes(bool on) { return {_mm_castsi128_ps(_mm_set1_epi32(on ? -1 : 0))}; }
 };
-/// A true/false per lane, as SSE comparisons give it (all bits set or clear).
-struct LaneMask {
-  __m128 v;
-};
-Lanes load(const std::array<float, 4>& a) {
-  return {_mm_loadu_ps(a.data())};
-}
-Lanes splat(float f) {
-  return {_mm_set1_ps(f)};
-}
-/// Four values computed one by one, put together in registers: stored one by one and loaded as
-/// a vector, they would wait for the stores to retire (no store forwarding).
-Lanes fromScalars(float a, float b, float c, float d) {
-  return {_mm_setr_ps(a, b, c, d)};
-}
-void store(const Lanes& a, std::array<float, 4>& out) {
-  _mm_storeu_ps(out.data(), a.v);
-}
-Lanes operator+(Lanes a, Lanes b) {
+Lanes4 operator+(Lanes4 a, Lanes4 b) {
   return {_mm_add_ps(a.v, b.v)};
 }
-Lanes operator-(Lanes a, Lanes b) {
+Lanes4 operator-(Lanes4 a, Lanes4 b) {
   return {_mm_sub_ps(a.v, b.v)};
 }
-Lanes operator*(Lanes a, Lanes b) {
+Lanes4 operator*(Lanes4 a, Lanes4 b) {
   return {_mm_mul_ps(a.v, b.v)};
 }
-Lanes operator/(Lanes a, Lanes b) {
+Lanes4 operator/(Lanes4 a, Lanes4 b) {
   return {_mm_div_ps(a.v, b.v)};
 }
-Lanes sqrt(Lanes a) {
+Lanes4 sqrt(Lanes4 a) {
   return {_mm_sqrt_ps(a.v)};
 }
-LaneMask operator>(Lanes a, Lanes b) {
+Lanes4::Mask operator>(Lanes4 a, Lanes4 b) {
   return {_mm_cmpgt_ps(a.v, b.v)};
 }
-LaneMask operator>=(Lanes a, Lanes b) {
+Lanes4::Mask operator>=(Lanes4 a, Lanes4 b) {
   return {_mm_cmpge_ps(a.v, b.v)};
 }
-LaneMask operator<=(Lanes a, Lanes b) {
+Lanes4::Mask operator<=(Lanes4 a, Lanes4 b) {
   return {_mm_cmple_ps(a.v, b.v)};
 }
-LaneMask operator|(LaneMask a, LaneMask b) {
+Lanes4::Mask operator|(Lanes4::Mask a, Lanes4::Mask b) {
   return {_mm_or_ps(a.v, b.v)};
 }
-LaneMask operator&(LaneMask a, LaneMask b) {
+Lanes4::Mask operator&(Lanes4::Mask a, Lanes4::Mask b) {
   return {_mm_and_ps(a.v, b.v)};
 }
 /// a and not b.
-LaneMask andNot(LaneMask a, LaneMask b) {
+Lanes4::Mask andNot(Lanes4::Mask a, Lanes4::Mask b) {
   return {_mm_andnot_ps(b.v, a.v)};
 }
-LaneMask allLanes(bool on) {
-  return {_mm_castsi128_ps(_mm_set1_epi32(on ? -1 : 0))};
-}
 /// Bit j set when lane j is true.
-unsigned bits(LaneMask m) {
+unsigned bits(Lanes4::Mask m) {
   return static_cast<unsigned>(_mm_movemask_ps(m.v));
 }
 /// a where m is true, b elsewhere.
-Lanes select(LaneMask m, Lanes a, Lanes b) {
+Lanes4 select(Lanes4::Mask m, Lanes4 a, Lanes4 b) {
   return {_mm_or_ps(_mm_and_ps(m.v, a.v), _mm_andnot_ps(m.v, b.v))};
 }
 /// out[j] = (r[j], g[j], b[j], 0): lane j's colour as one 16-byte store.
-void storeColors(Lanes r, Lanes g, Lanes b, std::array<std::array<float, 4>, 4>& out) {
+void storeColors(Lanes4 r, Lanes4 g, Lanes4 b, float (&out)[4][4]) {
   __m128 x = r.v, y = g.v, z = b.v, w = _mm_setzero_ps();
   _MM_TRANSPOSE4_PS(x, y, z, w);
-  _mm_storeu_ps(out[0].data(), x);
-  _mm_storeu_ps(out[1].data(), y);
-  _mm_storeu_ps(out[2].data(), z);
-  _mm_storeu_ps(out[3].data(), w);
+  _mm_storeu_ps(out[0], x);
+  _mm_storeu_ps(out[1], y);
+  _mm_storeu_ps(out[2], z);
+  _mm_storeu_ps(out[3], w);
 }
 #else
-/// Four floats, one per light of a PointLightQuad (portable fallback of the SSE version).
-struct Lanes {
+/// Four floats, one per light of a PointLightGroup<4> (portable fallback of the SSE version).
+struct Lanes4 {
+  static constexpr std::size_t kWidth = 4;
   std::array<float, 4> v;
-};
-/// A true/false per lane, as bits.
-struct LaneMask {
-  unsigned v;
+
+  static Lanes4 load(const float* a) { return {{a[0], a[1], a[2], a[3]}}; }
+  static Lanes4 splat(float f) { return {{f, f, f, f}}; }
+  template <typename F>
+  static Lanes4 fromScalars(const F& f) {
+    return {{f(0), f(1), f(2), f(3)}};
+  }
+  static void store(const Lanes4& a, float* out) {
+    for (std::size_t j = 0; j < 4; ++j) out[j] = a.v[j];
+  }
+  /// A true/false per lane, as bits.
+  struct Mask {
+    unsigned v;
+  };
+  static Mask allLanes(bool on) { return {on ? 15u : 0u}; }
 };
 template <typename F>
-Lanes laneWise(F&& f) {
-  Lanes r;
+Lanes4 laneWise(F&& f) {
+  Lanes4 r;
   for (std::size_t j = 0; j < 4; ++j) r.v[j] = f(j);
   return r;
 }
 template <typename F>
-LaneMask maskWise(F&& f) {
+Lanes4::Mask maskWise(F&& f) {
   unsigned m = 0;
   for (std::size_t j = 0; j < 4; ++j) m |= f(j) ? 1u << j : 0u;
   return {m};
 }
-Lanes load(const std::array<float, 4>& a) {
-  return {a};
-}
-Lanes splat(float f) {
-  return {{f, f, f, f}};
-}
-Lanes fromScalars(float a, float b, float c, float d) {
-  return {{a, b, c, d}};
-}
-void store(const Lanes& a, std::array<float, 4>& out) {
-  out = a.v;
-}
-Lanes operator+(Lanes a, Lanes b) {
+Lanes4 operator+(Lanes4 a, Lanes4 b) {
   return laneWise([&](std::size_t j) { return a.v[j] + b.v[j]; });
 }
-Lanes operator-(Lanes a, Lanes b) {
+Lanes4 operator-(Lanes4 a, Lanes4 b) {
   return laneWise([&](std::size_t j) { return a.v[j] - b.v[j]; });
 }
-Lanes operator*(Lanes a, Lanes b) {
+Lanes4 operator*(Lanes4 a, Lanes4 b) {
   return laneWise([&](std::size_t j) { return a.v[j] * b.v[j]; });
 }
-Lanes operator/(Lanes a, Lanes b) {
+Lanes4 operator/(Lanes4 a, Lanes4 b) {
   return laneWise([&](std::size_t j) { return a.v[j] / b.v[j]; });
 }
-Lanes sqrt(Lanes a) {
+Lanes4 sqrt(Lanes4 a) {
   return laneWise([&](std::size_t j) { return std::sqrt(a.v[j]); });
 }
-LaneMask operator>(Lanes a, Lanes b) {
+Lanes4::Mask operator>(Lanes4 a, Lanes4 b) {
   return maskWise([&](std::size_t j) { return a.v[j] > b.v[j]; });
 }
-LaneMask operator>=(Lanes a, Lanes b) {
+Lanes4::Mask operator>=(Lanes4 a, Lanes4 b) {
   return maskWise([&](std::size_t j) { return a.v[j] >= b.v[j]; });
 }
-LaneMask operator<=(Lanes a, Lanes b) {
+Lanes4::Mask operator<=(Lanes4 a, Lanes4 b) {
   return maskWise([&](std::size_t j) { return a.v[j] <= b.v[j]; });
 }
-LaneMask operator|(LaneMask a, LaneMask b) {
+Lanes4::Mask operator|(Lanes4::Mask a, Lanes4::Mask b) {
   return {a.v | b.v};
 }
-LaneMask operator&(LaneMask a, LaneMask b) {
+Lanes4::Mask operator&(Lanes4::Mask a, Lanes4::Mask b) {
   return {a.v & b.v};
 }
-LaneMask andNot(LaneMask a, LaneMask b) {
+Lanes4::Mask andNot(Lanes4::Mask a, Lanes4::Mask b) {
   return {a.v & ~b.v};
 }
-LaneMask allLanes(bool on) {
-  return {on ? 15u : 0u};
-}
-unsigned bits(LaneMask m) {
+unsigned bits(Lanes4::Mask m) {
   return m.v;
 }
-Lanes select(LaneMask m, Lanes a, Lanes b) {
+Lanes4 select(Lanes4::Mask m, Lanes4 a, Lanes4 b) {
   return laneWise([&](std::size_t j) { return (m.v >> j & 1u) ? a.v[j] : b.v[j]; });
 }
-void storeColors(Lanes r, Lanes g, Lanes b, std::array<std::array<float, 4>, 4>& out) {
-  for (std::size_t j = 0; j < 4; ++j) out[j] = {r.v[j], g.v[j], b.v[j], 0.0f};
+void storeColors(Lanes4 r, Lanes4 g, Lanes4 b, float (&out)[4][4]) {
+  for (std::size_t j = 0; j < 4; ++j) {
+    out[j][0] = r.v[j];
+    out[j][1] = g.v[j];
+    out[j][2] = b.v[j];
+    out[j][3] = 0.0f;
+  }
 }
 #endif
 
-/// The Phong terms of the four lights of a quad at one surface point.
-struct QuadTerms {
-  /// Per light: red, green, blue of its colour times the Phong terms (valid where added), and
-  /// an unused fourth float. One light's colour lies in one 16-byte store, which the loads of
-  /// its three channels can forward from; channel-major rows made the loads of the last light
-  /// span two stores, and wait for both to reach the cache.
-  std::array<std::array<float, 4>, 4> rgb;
-  unsigned present = 0;  ///< bit j: light j is not exactly at the point
-  unsigned added = 0;    ///< bit j: light j adds a non-black term (a subset of present)
+/// `lights` as groups of W.
+template <std::size_t W>
+void groupLights(const std::vector<PointLight>& lights, std::vector<PointLightGroup<W>>& groups) {
+  groups.assign((lights.size() + W - 1) / W, PointLightGroup<W>{});
+  for (std::size_t i = 0; i < groups.size() * W; ++i) {
+    const PointLight& l = lights[std::min(i, lights.size() - 1)];
+    PointLightGroup<W>& q = groups[i / W];
+    const std::size_t j = i % W;
+    q.x[j] = l.position.x;
+    q.y[j] = l.position.y;
+    q.z[j] = l.position.z;
+    q.r[j] = l.color.x;
+    q.g[j] = l.color.y;
+    q.b[j] = l.color.z;
+    q.attenuated = q.attenuated || !l.attenuation.none();
+  }
+}
 
-  /// The term of light j.
-  Vec3f color(std::size_t j) const { return {rgb[j][0], rgb[j][1], rgb[j][2]}; }
-};
+/// The point-light inputs of `sh` as the light-term kernels read them.
+LightTermsPoint lightTermsPoint(const SurfaceShading& sh) {
+  LightTermsPoint p;
+  const Material& m = sh.material;
+  for (int a = 0; a < 3; ++a) {
+    const auto c = static_cast<std::size_t>(a);
+    p.position[a] = sh.sd.position[c];
+    p.ns[a] = sh.ns[c];
+    p.ng[a] = sh.ng[c];
+    p.v[a] = sh.v[c];
+    p.diffuse[a] = sh.diffuse[c];
+    p.specular[a] = m.specular[c];
+    p.absorbingDiffuse[a] = sh.highlight.absorbingDiffuse[c];
+  }
+  p.shine = m.shine;
+  p.lit = m.lit();
+  p.reflective = m.reflective();
+  p.cutoff = sh.highlight.cutoff;
+  p.negligibleBelow = sh.highlight.negligibleBelow;
+  return p;
+}
 
-/// What forEachLightTerm computes for one point light (direction, attenuation, the tests that
-/// skip it, phong, the black test of the result), for the `count` lights of quad `q` (`lights`
-/// the first of them) at once, in the same IEEE operations lane by lane: identical terms, in a
-/// fraction of the instructions.
-QuadTerms pointLightTerms(const PointLightQuad& q, const PointLight* lights, std::size_t count,
-                          const SurfaceShading& sh) {
-  const Vec3f& p = sh.sd.position;
-  const Lanes zero = splat(0.0f);
-  const Lanes tx = load(q.x) - splat(p.x), ty = load(q.y) - splat(p.y), tz = load(q.z) - splat(p.z);
-  const Lanes distance = sqrt(tx * tx + ty * ty + tz * tz);  // length(toLight)
-  const Lanes dx = tx / distance, dy = ty / distance, dz = tz / distance;
-  auto dotDirection = [&](const Vec3f& n) {
-    return splat(n.x) * dx + splat(n.y) * dy + splat(n.z) * dz;
-  };
-  const Lanes nl = dotDirection(sh.ns), ngl = dotDirection(sh.ng);
-  Lanes cr = load(q.r), cg = load(q.g), cb = load(q.b);
-  if (q.attenuated) {
-    std::array<float, 4> d;
-    store(distance, d);
+/// The terms of the `count` lights of group `q` (`lights` the first of them) at `p`, four at a
+/// time (pointLightTermsWith), with the lights' distance attenuation applied lane by lane.
+void pointLightTerms4(const PointLightGroup<4>& q, const PointLight* lights, std::size_t count,
+                      const LightTermsPoint& p, LightGroupTerms<4>& out) {
+  const auto attenuate = [&](const Lanes4& distance, Lanes4& cr, Lanes4& cg, Lanes4& cb) {
+    float d[4];
+    Lanes4::store(distance, d);
     Vec3f c[4];
     for (std::size_t j = 0; j < 4; ++j) {
       c[j] = j < count && !lights[j].attenuation.none()
                  ? lights[j].color * lights[j].attenuation.factor(d[j])
                  : Vec3f{q.r[j], q.g[j], q.b[j]};
     }
-    cr = fromScalars(c[0].x, c[1].x, c[2].x, c[3].x);
-    cg = fromScalars(c[0].y, c[1].y, c[2].y, c[3].y);
-    cb = fromScalars(c[0].z, c[1].z, c[2].z, c[3].z);
-  }
-  // Lanes past `count` and lanes that fail a test compute garbage that no one reads.
-  const LaneMask present = distance > zero;
-  const LaneMask lightNotBlack = (cr > zero) | (cg > zero) | (cb > zero);
-  const LaneMask facing =
-      andNot(present & lightNotBlack & allLanes(sh.material.lit()), (nl <= zero) | (ngl <= zero));
-  // phong(): diffuse * nl, plus the highlight where r.v > 0 and r.v >= the cutoff.
-  const Material& m = sh.material;
-  Lanes r = splat(sh.diffuse.x) * nl, g = splat(sh.diffuse.y) * nl, b = splat(sh.diffuse.z) * nl;
-  if (m.reflective()) {
-    const Lanes twoNl = splat(2.0f) * nl;
-    const Lanes rx = splat(sh.ns.x) * twoNl - dx, ry = splat(sh.ns.y) * twoNl - dy,
-                rz = splat(sh.ns.z) * twoNl - dz;
-    const Lanes rv = rx * splat(sh.v.x) + ry * splat(sh.v.y) + rz * splat(sh.v.z);
-    const HighlightLimits& limits = sh.highlight;
-    const LaneMask absorbed = (splat(limits.negligibleBelow) > rv) & (r > zero) & (g > zero) &
-                              (b > zero) & (r >= splat(limits.absorbingDiffuse.x)) &
-                              (g >= splat(limits.absorbingDiffuse.y)) &
-                              (b >= splat(limits.absorbingDiffuse.z));
-    const LaneMask highlight =
-        andNot(facing & (rv > zero) & (rv >= splat(limits.cutoff)), absorbed);
-    if (const unsigned lanes = bits(highlight) & ((1u << count) - 1u)) {
-      std::array<float, 4> rvs;
-      store(rv, rvs);
-      const auto highlightPower = [&](unsigned j) {
-        return (lanes >> j & 1u) ? std::pow(rvs[j], m.shine) : 0.0f;
-      };
-      const Lanes power =
-          fromScalars(highlightPower(0), highlightPower(1), highlightPower(2), highlightPower(3));
-      r = select(highlight, r + splat(m.specular.x) * power, r);
-      g = select(highlight, g + splat(m.specular.y) * power, g);
-      b = select(highlight, b + splat(m.specular.z) * power, b);
-    }
-  }
-  r = cr * r;
-  g = cg * g;
-  b = cb * b;
-  const LaneMask added = facing & ((r > zero) | (g > zero) | (b > zero));
-  QuadTerms t;
-  storeColors(r, g, b, t.rgb);
-  const unsigned used = (1u << count) - 1u;
-  t.present = bits(present) & used;
-  t.added = bits(added) & used;
-  return t;
+    cr = Lanes4::fromScalars([&](std::size_t j) { return c[j].x; });
+    cg = Lanes4::fromScalars([&](std::size_t j) { return c[j].y; });
+    cb = Lanes4::fromScalars([&](std::size_t j) { return c[j].z; });
+  };
+  pointLightTermsWith<Lanes4>(q, count, p, attenuate, out);
 }
 
 /// Colours of the `classes` mode.
@@ -390,20 +361,37 @@ Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
       whitted_(settings.mode == RenderMode::Whitted) {
   highlightLimits_.reserve(scene.materials.size());
   for (const Material& m : scene.materials) highlightLimits_.push_back(highlightLimits(m));
-  // Unused lanes of the last quad repeat a light; their results are never read.
+  // Unused lanes of the last group repeat a light (groupLights); their terms are never read.
   const std::vector<PointLight>& lights = scene.pointLights;
-  pointQuads_.resize((lights.size() + 3) / 4);
-  for (std::size_t i = 0; i < pointQuads_.size() * 4; ++i) {
-    const PointLight& l = lights[std::min(i, lights.size() - 1)];
-    PointLightQuad& q = pointQuads_[i / 4];
-    const std::size_t j = i % 4;
-    q.x[j] = l.position.x;
-    q.y[j] = l.position.y;
-    q.z[j] = l.position.z;
-    q.r[j] = l.color.x;
-    q.g[j] = l.color.y;
-    q.b[j] = l.color.z;
-    q.attenuated = q.attenuated || !l.attenuation.none();
+  // Eight lights per pass where the packet kernels use AVX2 or wider, for more than four lights
+  // and none attenuated (only the four-light terms attenuate): the same terms in fewer passes.
+  const bool attenuated = std::any_of(lights.begin(), lights.end(),
+                                      [](const PointLight& l) { return !l.attenuation.none(); });
+  if (activeSimdIsa() != SimdIsa::Portable && lights.size() > 4 && !attenuated)
+    pointTerms8_ = pointLightTermsAvx2();
+  if (pointTerms8_ != nullptr)
+    groupLights(lights, pointGroups8_);
+  else
+    groupLights(lights, pointGroups4_);
+}
+
+template <typename Fn>
+void Shader::forEachPointLightGroup(const SurfaceShading& sh, Fn&& fn) const {
+  const LightTermsPoint p = lightTermsPoint(sh);
+  const std::vector<PointLight>& points = rs_.pointLights;
+  if (pointTerms8_ != nullptr) {
+    for (std::size_t first = 0; first < points.size(); first += 8) {
+      LightGroupTerms<8> t;
+      pointTerms8_(pointGroups8_[first / 8], std::min<std::size_t>(8, points.size() - first), p, t);
+      fn(first, t.present, t.added, t.rgb);
+    }
+    return;
+  }
+  for (std::size_t first = 0; first < points.size(); first += 4) {
+    LightGroupTerms<4> t;
+    pointLightTerms4(pointGroups4_[first / 4], points.data() + first,
+                     std::min<std::size_t>(4, points.size() - first), p, t);
+    fn(first, t.present, t.added, t.rgb);
   }
 }
 
@@ -512,17 +500,16 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&&
   };
   // Model only what the scene needs: no shadow ray when the light cannot change the colour.
   const std::vector<PointLight>& points = rs_.pointLights;
-  for (std::size_t first = 0; first < points.size(); first += 4) {
-    const std::size_t count = std::min<std::size_t>(4, points.size() - first);
-    const QuadTerms q = pointLightTerms(pointQuads_[first / 4], points.data() + first, count, sh);
+  forEachPointLightGroup(sh, [&](std::size_t first, unsigned present, unsigned added,
+                                 const float(*rgb)[4]) {
     // A light exactly at the point lights nothing and saves nothing; present ones that add
     // nothing save their shadow ray. Then the adding ones, in light order.
-    if (whitted_) counters.saved.shadow += std::popcount(q.present & ~q.added);
-    for (unsigned lanes = q.added; lanes != 0; lanes &= lanes - 1) {
+    if (whitted_) counters.saved.shadow += std::popcount(present & ~added);
+    for (unsigned lanes = added; lanes != 0; lanes &= lanes - 1) {
       const auto j = static_cast<std::size_t>(std::countr_zero(lanes));
-      add(q.color(j), first + j, false, {}, points[first + j].position);
+      add(Vec3f{rgb[j][0], rgb[j][1], rgb[j][2]}, first + j, false, {}, points[first + j].position);
     }
-  }
+  });
   forEachOtherLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t index) {
     const std::optional<Vec3f> local = otherLightTerm(sh, light);
     if (!local) {
@@ -537,15 +524,12 @@ Vec3f Shader::unshadowedColor(const SurfaceShading& sh) const {
   // forEachLightTerm's terms summed in the same order, without its slots and callbacks: the
   // sum then stays in registers (through the callbacks it went to memory once per light).
   Vec3f color = sh.color;
-  const std::vector<PointLight>& points = rs_.pointLights;
-  for (std::size_t first = 0; first < points.size(); first += 4) {
-    const std::size_t count = std::min<std::size_t>(4, points.size() - first);
-    const QuadTerms q = pointLightTerms(pointQuads_[first / 4], points.data() + first, count, sh);
-    for (unsigned lanes = q.added; lanes != 0; lanes &= lanes - 1) {
+  forEachPointLightGroup(sh, [&](std::size_t, unsigned, unsigned added, const float(*rgb)[4]) {
+    for (unsigned lanes = added; lanes != 0; lanes &= lanes - 1) {
       const auto j = static_cast<std::size_t>(std::countr_zero(lanes));
-      color += q.color(j);
+      color += Vec3f{rgb[j][0], rgb[j][1], rgb[j][2]};
     }
-  }
+  });
   if (!rs_.directionalLights.empty() || !rs_.spotLights.empty())
     forEachOtherLight(rs_, sh.sd.position, [&](const LightSample& light, std::size_t) {
       if (const std::optional<Vec3f> local = otherLightTerm(sh, light)) color += *local;

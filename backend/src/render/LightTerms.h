@@ -1,0 +1,57 @@
+// The point-light terms of one surface point as plain data, shared by the baseline shader and
+// the wider light kernels (LightTermsAvx2.cpp). Only plain numbers and C arrays cross between
+// them: a kernel compiled for another instruction set must not call inline functions that the
+// baseline also compiles (the linker keeps one copy of each, which could then be the wider
+// one, as in builds without inlining). Internal header: not installed.
+#pragma once
+
+#include <cstddef>
+
+namespace tg::detail {
+
+/// W point lights of a frame by coordinate, so that their terms at a surface point are computed
+/// W at a time. Unused lanes of a frame's last group repeat a light; nobody reads their terms.
+template <std::size_t W>
+struct PointLightGroup {
+  alignas(32) float x[W] = {}, y[W] = {}, z[W] = {};  ///< positions
+  alignas(32) float r[W] = {}, g[W] = {}, b[W] = {};  ///< colours, before any attenuation
+  bool attenuated = false;  ///< some light of the group has distance attenuation
+};
+
+/// A surface point as the light terms read it (see SurfaceShading and Material).
+struct LightTermsPoint {
+  float position[3];          ///< the hit point
+  float ns[3], ng[3];         ///< shading and geometric normal, facing the incoming ray
+  float v[3];                 ///< unit view vector
+  float diffuse[3];           ///< diffuse colour after texturing
+  float specular[3];          ///< Material::specular
+  float shine;                ///< Material::shine
+  bool lit;                   ///< Material::lit()
+  bool reflective;            ///< Material::reflective()
+  float cutoff;               ///< HighlightLimits::cutoff
+  float negligibleBelow;      ///< HighlightLimits::negligibleBelow
+  float absorbingDiffuse[3];  ///< HighlightLimits::absorbingDiffuse
+};
+
+/// The Phong terms of the lights of a group at one surface point.
+template <std::size_t W>
+struct LightGroupTerms {
+  /// Per light: red, green, blue of its colour times the Phong terms (valid where added), and
+  /// an unused fourth float. One light's colour lies in one 16-byte store, which the loads of
+  /// its three channels can forward from; channel-major rows made the loads of the last light
+  /// span two stores, and wait for both to reach the cache.
+  alignas(16) float rgb[W][4];
+  unsigned present = 0;  ///< bit j: light j is not exactly at the point
+  unsigned added = 0;    ///< bit j: light j adds a non-black term (a subset of present)
+};
+
+/// Terms of the first `count` lights of an 8-light group without attenuation at point `p`.
+using PointLightTerms8Fn = void (*)(const PointLightGroup<8>& group, std::size_t count,
+                                    const LightTermsPoint& p, LightGroupTerms<8>& out);
+
+/// The AVX2 kernel of PointLightTerms8Fn, or null when the build has none. Call it only on a
+/// CPU that runs AVX2. Its terms equal the baseline's four-light ones bit for bit: the same IEEE
+/// operations lane by lane, without contraction.
+PointLightTerms8Fn pointLightTermsAvx2();
+
+}  // namespace tg::detail
