@@ -1,5 +1,9 @@
 #include "tracegraph/backend/render/Camera.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -71,6 +75,38 @@ Ray Camera::rayThroughPlane(double sx, double sy) const {
   ray.tnear = params_.hither;
   ray.tfar = kInfinity;
   return ray;
+}
+
+void Camera::rayPairThroughPlane(double sx0, double sx1, double sy, Ray* out) const {
+#if defined(__SSE2__)
+  // rayThroughPlane's operations in its order, lane by lane (no fused multiply-add in this
+  // baseline unit; square root, division and the rounding to float are correctly rounded in
+  // vectors as in scalars).
+  const __m128d sx = _mm_set_pd(sx1, sx0), syv = _mm_set1_pd(sy);
+  const auto component = [&](double f, double r, double u) {
+    return _mm_add_pd(_mm_add_pd(_mm_set1_pd(f), _mm_mul_pd(_mm_set1_pd(r), sx)),
+                      _mm_mul_pd(_mm_set1_pd(u), syv));
+  };
+  const __m128d x = component(forward_.x, right_.x, upAxis_.x);
+  const __m128d y = component(forward_.y, right_.y, upAxis_.y);
+  const __m128d z = component(forward_.z, right_.z, upAxis_.z);
+  const __m128d length =
+      _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(x, x), _mm_mul_pd(y, y)), _mm_mul_pd(z, z)));
+  alignas(16) float fx[4], fy[4], fz[4];
+  _mm_store_ps(fx, _mm_cvtpd_ps(_mm_div_pd(x, length)));
+  _mm_store_ps(fy, _mm_cvtpd_ps(_mm_div_pd(y, length)));
+  _mm_store_ps(fz, _mm_cvtpd_ps(_mm_div_pd(z, length)));
+  for (int k = 0; k < 2; ++k) {
+    Ray& ray = out[k];
+    ray.origin = params_.eye;
+    ray.direction = {fx[k], fy[k], fz[k]};
+    ray.tnear = params_.hither;
+    ray.tfar = kInfinity;
+  }
+#else
+  out[0] = rayThroughPlane(sx0, sy);
+  out[1] = rayThroughPlane(sx1, sy);
+#endif
 }
 
 }  // namespace tg

@@ -124,14 +124,24 @@ TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Ca
     scratch.blockEnds.clear();
     for (std::uint32_t y0 = rect.y0; y0 < rect.y1; y0 += 2) {
       for (std::uint32_t x0 = rect.x0; x0 < rect.x1; x0 += 4) {
-        for (std::uint32_t lane = 0; lane < kRayPacketSize; ++lane) {
+        // Lanes in pairs of horizontal neighbours, made together (Camera::rayPairThroughPlane).
+        for (std::uint32_t lane = 0; lane < kRayPacketSize; lane += 2) {
           const std::uint32_t x = x0 + lane % 4, y = y0 + lane / 4;
           if (x >= rect.x1 || y >= rect.y1) continue;
+          const double sy = scratch.planeY[y - rect.y0];
           scratch.px[count] = x;
           scratch.py[count] = y;
-          // camera.primaryRay(x, y), bit for bit, made in place (no temporary to copy).
-          ::new (static_cast<void*>(&scratch.rays[count++]))
-              Ray(camera.rayThroughPlane(scratch.planeX[x - rect.x0], scratch.planeY[y - rect.y0]));
+          if (x + 1 < rect.x1) {
+            scratch.px[count + 1] = x + 1;
+            scratch.py[count + 1] = y;
+            camera.rayPairThroughPlane(scratch.planeX[x - rect.x0], scratch.planeX[x + 1 - rect.x0],
+                                       sy, &scratch.rays[count]);
+            count += 2;
+          } else {
+            // camera.primaryRay(x, y), bit for bit, made in place (no temporary to copy).
+            ::new (static_cast<void*>(&scratch.rays[count++]))
+                Ray(camera.rayThroughPlane(scratch.planeX[x - rect.x0], sy));
+          }
         }
         scratch.blockEnds.push_back(static_cast<std::uint32_t>(count));
       }
