@@ -18,6 +18,7 @@
 #include <string>
 #include <utility>
 
+#include "NormalizePair.h"
 #include "PacketRays.h"
 #include "tracegraph/backend/Error.h"
 
@@ -401,16 +402,10 @@ void mapNormals(const Affine3d* const* worldToObject, Hit* const* hits, std::siz
                     m2 = _mm_set_pd(b.m[2][c], a.m[2][c]);
       return _mm_add_pd(_mm_add_pd(_mm_mul_pd(m0, nx), _mm_mul_pd(m1, ny)), _mm_mul_pd(m2, nz));
     };
-    const __m128d x = column(0), y = column(1), z = column(2);
-    // normalize: v / sqrt(dot(v, v)).
-    const __m128d length =
-        _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(x, x), _mm_mul_pd(y, y)), _mm_mul_pd(z, z)));
-    alignas(16) float fx[4], fy[4], fz[4];
-    _mm_store_ps(fx, _mm_cvtpd_ps(_mm_div_pd(x, length)));
-    _mm_store_ps(fy, _mm_cvtpd_ps(_mm_div_pd(y, length)));
-    _mm_store_ps(fz, _mm_cvtpd_ps(_mm_div_pd(z, length)));
-    hits[i]->geometricNormal = {fx[0], fy[0], fz[0]};
-    hits[j]->geometricNormal = {fx[1], fy[1], fz[1]};
+    Vec3f normals[2];
+    detail::normalizePair(column(0), column(1), column(2), normals);
+    hits[i]->geometricNormal = normals[0];
+    hits[j]->geometricNormal = normals[1];
   }
 #else
   for (std::size_t i = 0; i < count; ++i) {

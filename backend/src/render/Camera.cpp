@@ -1,13 +1,10 @@
 #include "tracegraph/backend/render/Camera.h"
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include <cmath>
 #include <numbers>
 #include <string>
 
+#include "../NormalizePair.h"
 #include "tracegraph/backend/Error.h"
 
 namespace tg {
@@ -87,19 +84,14 @@ void Camera::rayPairThroughPlane(double sx0, double sx1, double sy, Ray* out) co
     return _mm_add_pd(_mm_add_pd(_mm_set1_pd(f), _mm_mul_pd(_mm_set1_pd(r), sx)),
                       _mm_mul_pd(_mm_set1_pd(u), syv));
   };
-  const __m128d x = component(forward_.x, right_.x, upAxis_.x);
-  const __m128d y = component(forward_.y, right_.y, upAxis_.y);
-  const __m128d z = component(forward_.z, right_.z, upAxis_.z);
-  const __m128d length =
-      _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(x, x), _mm_mul_pd(y, y)), _mm_mul_pd(z, z)));
-  alignas(16) float fx[4], fy[4], fz[4];
-  _mm_store_ps(fx, _mm_cvtpd_ps(_mm_div_pd(x, length)));
-  _mm_store_ps(fy, _mm_cvtpd_ps(_mm_div_pd(y, length)));
-  _mm_store_ps(fz, _mm_cvtpd_ps(_mm_div_pd(z, length)));
+  Vec3f directions[2];
+  detail::normalizePair(component(forward_.x, right_.x, upAxis_.x),
+                        component(forward_.y, right_.y, upAxis_.y),
+                        component(forward_.z, right_.z, upAxis_.z), directions);
   for (int k = 0; k < 2; ++k) {
     Ray& ray = out[k];
     ray.origin = params_.eye;
-    ray.direction = {fx[k], fy[k], fz[k]};
+    ray.direction = directions[k];
     ray.tnear = params_.hither;
     ray.tfar = kInfinity;
   }
