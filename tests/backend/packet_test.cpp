@@ -269,11 +269,37 @@ void makeMappingRays(std::mt19937& rng, int trial, Ray (&rays)[kRayPacketSize],
   }
 }
 
+/// The instance of mapping trial `trial`: the identity, or a random transform with mirrors.
+InstanceRecord mappingInstance(std::mt19937& rng, int trial, bool identity) {
+  InstanceRecord inst;
+  inst.identity = identity;
+  if (!identity) inst.worldToObjectD = *randomTransform(rng, 20.0, true).inverse();
+  inst.instanceId = static_cast<std::uint32_t>(trial);
+  inst.objectId = static_cast<std::uint32_t>(trial / 2);
+  return inst;
+}
+
 /// The lanes of mapping trial `trial`: all of them, or a pseudo-random non-empty subset.
 unsigned mappingLanes(int trial) {
   const unsigned all = (1u << kRayPacketSize) - 1u;
   const unsigned lanes = trial % 4 == 0 ? all : (static_cast<unsigned>(trial) * 37u) & all;
   return lanes != 0 ? lanes : 1u;
+}
+
+/// One trial of the mapping tests: an instance, a packet of rays with their tfar, the lanes.
+struct MappingTrial {
+  InstanceRecord inst;
+  Ray rays[kRayPacketSize];
+  float tfar[kRayPacketSize];
+  unsigned lanes = 0;
+};
+
+MappingTrial makeMappingTrial(std::mt19937& rng, int trial, bool identity) {
+  MappingTrial t;
+  t.inst = mappingInstance(rng, trial, identity);
+  makeMappingRays(rng, trial, t.rays, t.tfar);
+  t.lanes = mappingLanes(trial);
+  return t;
 }
 
 BOOST_AUTO_TEST_CASE(packet_object_rays_equal_single_mapping) {
@@ -282,15 +308,8 @@ BOOST_AUTO_TEST_CASE(packet_object_rays_equal_single_mapping) {
   // zero direction components of either sign among them.
   std::mt19937 rng(31);
   for (int trial = 0; trial < 200; ++trial) {
-    InstanceRecord inst;
-    inst.identity = trial % 3 == 0;
-    if (!inst.identity) inst.worldToObjectD = *randomTransform(rng, 20.0, true).inverse();
-    inst.instanceId = static_cast<std::uint32_t>(trial);
-    inst.objectId = static_cast<std::uint32_t>(trial / 2);
-    Ray rays[kRayPacketSize];
-    float tfar[kRayPacketSize];
-    makeMappingRays(rng, trial, rays, tfar);
-    const unsigned lanes = mappingLanes(trial);
+    const MappingTrial setup = makeMappingTrial(rng, trial, trial % 3 == 0);
+    const auto& [inst, rays, tfar, lanes] = setup;
     ObjectRayPacket packet;
     detail::mapPacketToObject(inst, rays, lanes, tfar, packet);
     for (unsigned l = 0; l < kRayPacketSize; ++l) {
@@ -316,14 +335,8 @@ BOOST_AUTO_TEST_CASE(transformed_packets_load_as_mapped_object_rays) {
   std::mt19937 rng(43);
   const detail::PacketKernels& kernels = detail::activePacketKernels();
   for (int trial = 0; trial < 300; ++trial) {
-    InstanceRecord inst;
-    inst.worldToObjectD = *randomTransform(rng, 20.0, true).inverse();
-    inst.instanceId = static_cast<std::uint32_t>(trial);
-    inst.objectId = static_cast<std::uint32_t>(trial / 3);
-    Ray rays[kRayPacketSize];
-    float tfar[kRayPacketSize];
-    makeMappingRays(rng, trial, rays, tfar);
-    const unsigned lanes = mappingLanes(trial);
+    const MappingTrial setup = makeMappingTrial(rng, trial, false);
+    const auto& [inst, rays, tfar, lanes] = setup;
 
     ObjectRayPacket mapped;
     detail::mapPacketToObject(inst, rays, lanes, tfar, mapped);
