@@ -109,15 +109,16 @@ Plan makePlan(bool quick, const std::string& data) {
     p.traces.push_back({s, "primary", "bounds"});
     p.loadScenes.push_back(s);
   }
-  if (have(kitchen)) p.traces.push_back({kitchen, "shadow", "bounds"});
+  // Shadow rays of the two scenes the shadow target names.
+  for (const std::string& s : {kitchen, robots})
+    if (have(s)) p.traces.push_back({s, "shadow", "bounds"});
   // The view a frame of the file traces, from inside the scene: the camera framing the bounds
   // sees the scene from outside, where most rays stop early or miss.
   for (const std::string& s : {kitchen, robots})
     if (have(s)) p.traces.push_back({s, "primary", "scene"});
-  if (have(kitchen)) {
-    p.traces.push_back({kitchen, "shadow", "scene"});
-    p.frameScenes.push_back(kitchen);
-  }
+  for (const std::string& s : {kitchen, robots})
+    if (have(s)) p.traces.push_back({s, "shadow", "scene"});
+  if (have(kitchen)) p.frameScenes.push_back(kitchen);
   if (have(robots)) p.frameScenes.push_back(robots), p.syncScene = robots;
   const std::string staticScene = have(kitchen) ? kitchen : "builtin:sphereflake";
   p.staticScenes = {staticScene};
@@ -599,7 +600,8 @@ int runReport(const CommonOptions& common, const ReportOptions& options) {
   // Tracegraph's own packets: the same rays and structures as its single rays, in the trace
   // topic; their answers equal the single rays' (single_ray_mismatches).
   const std::vector<const BenchRow*> traceRows = topicRows("trace");
-  for (const char* c : {"kitchen.aff primary", "Robot.aff primary", "kitchen.aff shadow"}) {
+  for (const char* c :
+       {"kitchen.aff primary", "Robot.aff primary", "kitchen.aff shadow", "Robot.aff shadow"}) {
     const BenchRow* single = findRow(traceRows, c, "tracegraph-bvh");
     const BenchRow* packets = findRow(traceRows, c, "tracegraph-bvh-packets");
     if (!single || !packets) continue;
