@@ -2,6 +2,8 @@
 // header: not installed.
 #pragma once
 
+#include <limits>
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -62,8 +64,8 @@ inline void mapPacketRows(const Affine3d& m, const PacketRayRows& world,
 #endif
 }
 
-/// What mapPacketToObject and BvhAccel::loadPacket together make of the lanes `lanes` of
-/// `rays` (eight rays, all read) entering transformed instance `inst`, lane l limited to
+/// What mapPacketToObject and BvhAccel::loadPacket together make of the lanes `lanes` (not
+/// empty) of `rays` (eight rays, all read) entering transformed instance `inst`, lane l limited to
 /// tfar[l], computed as rows of lanes without writing the object rays: `loaded` gets the box
 /// and triangle rows (coherent: the lanes with the first lane's object-space direction signs;
 /// filtered: those of them with its axis permutation), and `packet` only the tfar and ids of
