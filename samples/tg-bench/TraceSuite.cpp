@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -30,7 +31,35 @@
 namespace tg::bench {
 namespace {
 
-void traceOurs(const Scene& scene, std::span<const Ray> rays, std::span<RayOutcome> out) {
+/// The work of one trace, summed over its tasks' traversal contexts: node visits (a packet's
+/// visit counts once, for all its lanes) and watertight triangle tests (one per lane).
+struct WalkCounts {
+  std::atomic<std::uint64_t> nodeVisits{0};
+  std::atomic<std::uint64_t> triangleTests{0};
+
+  /// Adds a task's context, when counting (`counts` not null).
+  static void add(WalkCounts* counts, const TraversalContext& ctx) {
+    if (counts == nullptr) return;
+    counts->nodeVisits.fetch_add(ctx.nodeVisits, std::memory_order_relaxed);
+    counts->triangleTests.fetch_add(ctx.triangleTests, std::memory_order_relaxed);
+  }
+};
+
+/// Traces once more, untimed, with `traceCounted(&counts)`, and adds the work per ray to `row`:
+/// node_visits_per_ray and triangle_tests_per_ray.
+void addWalkCounts(BenchRow& row, std::size_t rays,
+                   const std::function<void(WalkCounts*)>& traceCounted) {
+  WalkCounts counts;
+  traceCounted(&counts);
+  const double n = rays > 0 ? static_cast<double>(rays) : 1.0;
+  row.extra.push_back(
+      realField("node_visits_per_ray", static_cast<double>(counts.nodeVisits.load()) / n));
+  row.extra.push_back(
+      realField("triangle_tests_per_ray", static_cast<double>(counts.triangleTests.load()) / n));
+}
+
+void traceOurs(const Scene& scene, std::span<const Ray> rays, std::span<RayOutcome> out,
+               WalkCounts* counts = nullptr) {
   parallelOverRays(rays.size(), [&](std::size_t begin, std::size_t end) {
     TraversalContext ctx;
     Hit hit;
@@ -38,6 +67,7 @@ void traceOurs(const Scene& scene, std::span<const Ray> rays, std::span<RayOutco
       scene.intersect(rays[i], hit, ctx);
       out[i] = {hit.instanceId, hit.primId};
     }
+    WalkCounts::add(counts, ctx);
   });
 }
 
@@ -45,13 +75,14 @@ void traceOurs(const Scene& scene, std::span<const Ray> rays, std::span<RayOutco
 /// with no occluder hint (TraversalContext::occluder), as if traced alone: what the engine's
 /// walk costs without the coherence of neighbouring rays.
 void occludedOurs(const Scene& scene, std::span<const Ray> rays, std::span<std::uint8_t> out,
-                  bool hints = true) {
+                  bool hints = true, WalkCounts* counts = nullptr) {
   parallelOverRays(rays.size(), [&](std::size_t begin, std::size_t end) {
     TraversalContext ctx;
     for (std::size_t i = begin; i < end; ++i) {
       if (!hints) ctx.occluder = {};
       out[i] = scene.occluded(rays[i], ctx) ? 1 : 0;
     }
+    WalkCounts::add(counts, ctx);
   });
 }
 
@@ -61,7 +92,8 @@ constexpr std::size_t kPacketRaysPerTask = 32 * kRayPacketSize;
 /// Closest hits through the packet interface (Scene::intersect over spans): `stream` holds the
 /// rays in packet order, out[order[k]] receives the answer of stream[k].
 void tracePacketsOurs(const Scene& scene, std::span<const Ray> stream,
-                      std::span<const std::uint32_t> order, std::span<RayOutcome> out) {
+                      std::span<const std::uint32_t> order, std::span<RayOutcome> out,
+                      WalkCounts* counts = nullptr) {
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(
           0, (stream.size() + kPacketRaysPerTask - 1) / kPacketRaysPerTask),
@@ -75,13 +107,14 @@ void tracePacketsOurs(const Scene& scene, std::span<const Ray> stream,
           for (std::size_t k = 0; k < count; ++k)
             out[order[begin + k]] = {hits[k].instanceId, hits[k].primId};
         }
+        WalkCounts::add(counts, ctx);
       });
 }
 
 /// Any hit through the packet interface, rays in their given order (consecutive shadow rays
 /// leave neighbouring pixels, so each group of eight is coherent).
-void occludedPacketsOurs(const Scene& scene, std::span<const Ray> rays,
-                         std::span<std::uint8_t> out) {
+void occludedPacketsOurs(const Scene& scene, std::span<const Ray> rays, std::span<std::uint8_t> out,
+                         WalkCounts* counts = nullptr) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(
                         0, (rays.size() + kPacketRaysPerTask - 1) / kPacketRaysPerTask),
                     [&](const tbb::blocked_range<std::size_t>& r) {
@@ -91,6 +124,7 @@ void occludedPacketsOurs(const Scene& scene, std::span<const Ray> rays,
                         const std::size_t count = std::min(kPacketRaysPerTask, rays.size() - begin);
                         scene.occluded(rays.subspan(begin, count), out.subspan(begin, count), ctx);
                       }
+                      WalkCounts::add(counts, ctx);
                     });
 }
 
@@ -254,15 +288,18 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
       add(
           e.impl,
           [&rays, traced = e.traced, occ = e.occluded] { occludedOurs(*traced, rays, *occ); },
-          [&, occ = e.occluded](BenchRow& row) {
+          [&, traced = e.traced, occ = e.occluded](BenchRow& row) {
             countOccluded(row, *occ);
+            addWalkCounts(row, n,
+                          [&](WalkCounts* c) { occludedOurs(*traced, rays, *occ, true, c); });
             judgeAny(row, *occ);
           });
     } else {
       add(
           e.impl, [&rays, traced = e.traced, out = e.outcomes] { traceOurs(*traced, rays, *out); },
-          [&, out = e.outcomes](BenchRow& row) {
+          [&, traced = e.traced, out = e.outcomes](BenchRow& row) {
             countHits(row, *out);
+            addWalkCounts(row, n, [&](WalkCounts* c) { traceOurs(*traced, rays, *out, c); });
             judgeClosest(row, *out);
           });
     }
@@ -275,6 +312,8 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
         "tracegraph-bvh-unhinted", [&] { occludedOurs(scene, rays, unhinted, false); },
         [&](BenchRow& row) {
           countOccluded(row, unhinted);
+          addWalkCounts(row, n,
+                        [&](WalkCounts* c) { occludedOurs(scene, rays, unhinted, false, c); });
           row.extra.push_back(intField(
               "single_ray_mismatches",
               static_cast<std::int64_t>(compareOcclusion(oursOccluded, unhinted).hitMiss)));
@@ -292,6 +331,8 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
         "tracegraph-bvh-packets", [&] { occludedPacketsOurs(scene, rays, packetOccluded); },
         [&](BenchRow& row) {
           countOccluded(row, packetOccluded);
+          addWalkCounts(
+              row, n, [&](WalkCounts* c) { occludedPacketsOurs(scene, rays, packetOccluded, c); });
           row.extra.push_back(intField(
               "single_ray_mismatches",
               static_cast<std::int64_t>(compareOcclusion(oursOccluded, packetOccluded).hitMiss)));
@@ -306,6 +347,9 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
         "tracegraph-bvh-packets", [&] { tracePacketsOurs(scene, stream, order, packetOutcomes); },
         [&](BenchRow& row) {
           countHits(row, packetOutcomes);
+          addWalkCounts(row, n, [&](WalkCounts* c) {
+            tracePacketsOurs(scene, stream, order, packetOutcomes, c);
+          });
           const MismatchCounts m = compareOutcomes(ours, packetOutcomes);
           row.extra.push_back(
               intField("single_ray_mismatches", static_cast<std::int64_t>(m.hitMiss + m.prim)));
