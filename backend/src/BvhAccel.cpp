@@ -3,7 +3,6 @@
 #include "BvhAccel.h"
 
 #include "LeafTest.h"
-#include "PacketObjectRays.h"
 #include "PacketRays.h"
 
 #include <tbb/blocked_range.h>
@@ -569,17 +568,11 @@ void BvhAccel::loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, un
 ObjectRay& BvhAccel::packetLane(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned l) {
   if (rays.unmappedLanes & (1u << l)) {
     ObjectRay& lane = packet.rays[l];
-    const Ray& ray = rays.worldRays[l];
-    if (rays.worldToObject == nullptr) {
-      mapIdentityLane(ray, lane);
-    } else {
-      // objectRayFor's transformed mapping, keeping the lane's tfar and ids.
-      const Affine3d& m = *rays.worldToObject;
-      lane.wt = WatertightRay(m.transformPoint(Vec3d(ray.origin)),
-                              m.transformVector(Vec3d(ray.direction)), ray.tnear);
-      lane.inverseDirection =
-          Vec3f(1.0f / lane.wt.direction.x, 1.0f / lane.wt.direction.y, 1.0f / lane.wt.direction.z);
-    }
+    // The ids are the instance's being entered: identity instances share one mapped packet.
+    const std::uint32_t instanceId = lane.instanceId, objectId = lane.objectId;
+    lane = objectRayFor(*rays.instance, rays.worldRays[l], lane.tfar);
+    lane.instanceId = instanceId;
+    lane.objectId = objectId;
     rays.unmappedLanes &= ~(1u << l);
   }
   return packet.rays[l];

@@ -7,9 +7,9 @@
 #include "BvhBuilder.h"
 #include "BvhMortonBuilder.h"
 #include "PacketKernel.h"
-#include "tracegraph/backend/Affine.h"
 #include "tracegraph/backend/KdTree.h"
 #include "tracegraph/backend/ObjectAccel.h"
+#include "tracegraph/backend/TopLevelAccel.h"
 
 namespace tg::detail {
 
@@ -32,9 +32,8 @@ struct BvhPacketRays {
   unsigned unmappedLanes = 0;
   /// The world rays of unmappedLanes.
   const Ray* worldRays = nullptr;
-  /// The instance's world-to-object matrix that maps worldRays (objectRayFor); null for an
-  /// identity instance.
-  const Affine3d* worldToObject = nullptr;
+  /// The instance whose mapping (objectRayFor) makes the object rays of worldRays.
+  const InstanceRecord* instance = nullptr;
   /// The kernels that walk these rays (those of the instruction set active when loaded): looked
   /// up once per load rather than at every walk entered with them.
   const PacketKernels* kernels = nullptr;
@@ -82,11 +81,13 @@ class BvhAccel final : public ObjectAccel {
   /// direction signs, unused lanes filled from the first), and whose triangle rows
   /// mapIdentityPacket wrote into out.triangles, returning `filtered`. The box part is a copy of
   /// `world` (lane tfar as `world` holds it), equal to what loadPacket computes lane by lane.
-  /// out.unmappedLanes and out.worldRays are left as they are (the walk owns them).
+  /// out.unmappedLanes, out.worldRays and out.instance are left as they are (the walk owns
+  /// them).
   static void loadIdentityPacket(const PacketBoxRays& world, unsigned lanes, unsigned filtered,
                                  const PacketKernels& kernels, BvhPacketRays& out);
-  /// Lane `l` of `packet` with its whole object ray: made first, from rays.worldRays, when the
-  /// lane is in rays.unmappedLanes (which it then leaves).
+  /// Lane `l` of `packet` with its whole object ray: made first, when the lane is in
+  /// rays.unmappedLanes (which it then leaves), as objectRayFor(*rays.instance) maps
+  /// rays.worldRays[l], keeping the tfar and ids the lane holds.
   static ObjectRay& packetLane(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned l);
   /// intersectPacket for lanes already loaded: `lanes` lie in rays.coherent, and rays.box.tfar
   /// of each equals its packet ray's tfar. Returns the lanes whose hit changed.

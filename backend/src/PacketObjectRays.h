@@ -104,8 +104,8 @@ inline void shearPacket(const float* xRow, const float* yRow, const float* zRow,
 ///
 /// Without `writeRays`, out.rays is left as it is and `tfar` is not read (it may be null): a
 /// packet walk whose lanes all take the SIMD tests reads only the tfar and ids it sets itself,
-/// and a lane's ray is made when a test needs it (mapIdentityLane). Writing all of it for every
-/// lane was a tenth of a museum packet's time from outside.
+/// and a lane's ray is made when a test needs it (BvhAccel::packetLane). Writing all of it for
+/// every lane was a tenth of a museum packet's time from outside.
 inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
                                   const float* tfar, ObjectRayPacket& out,
                                   PacketTriangleRays* triangles = nullptr, bool writeRays = true) {
@@ -174,14 +174,6 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
     tri.tnear[l] = rows.row[3][from];
   }
   return filtered;
-}
-
-/// Lane `lane`'s object ray after mapIdentityPacket without `writeRays`: the identity mapping of
-/// `ray` as objectRayFor makes it, keeping the tfar and ids the lane holds.
-inline void mapIdentityLane(const Ray& ray, ObjectRay& lane) {
-  lane.wt = WatertightRay(ray.origin, ray.direction, ray.tnear);
-  lane.inverseDirection =
-      Vec3f(1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z);
 }
 
 /// Writes out.rays[l] = objectRayFor(inst, rays[l], tfar[l]) for every lane l of `lanes`, bit for

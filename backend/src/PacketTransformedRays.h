@@ -138,7 +138,7 @@ inline void loadTransformedPacket(const InstanceRecord& inst, const Ray* rays, u
   loaded.filtered = filtered;
   loaded.unmappedLanes = lanes;
   loaded.worldRays = rays;
-  loaded.worldToObject = &inst.worldToObjectD;
+  loaded.instance = &inst;
   loaded.kernels = &kernels;
 }
 

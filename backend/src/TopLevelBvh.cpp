@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstddef>
 #include <new>
+#include <utility>
 
 #include "BvhAccel.h"
 #include "PacketObjectRays.h"
@@ -305,6 +306,7 @@ struct TopLevelPacketWalk {
           mapIdentityPacket(inst, rays, walkLanes, nullptr, packet, &identityBvh.triangles, false);
       identityBvh.unmappedLanes = walkLanes;
       identityBvh.worldRays = rays;
+      identityBvh.instance = &inst;
       identityReady = true;
     }
     if (!isBvhAccel(*inst.accel))
@@ -336,6 +338,22 @@ struct TopLevelPacketWalk {
     return transformedBvh;
   }
 
+  /// The object packet of BvhAccel instance `inst` for `lanes` (lane l limited to tfar(l)) and
+  /// its loaded form: the identity packet shared by identity instances (objectPacket,
+  /// identityBvhRays, `world` holding the walk's box rays), or a transformed instance's own
+  /// (loadTransformed).
+  template <class Tfar>
+  std::pair<ObjectRayPacket*, BvhPacketRays*> bvhPacket(const InstanceRecord& inst, unsigned lanes,
+                                                        const Tfar& tfar,
+                                                        const PacketBoxRays& world) {
+    if (!inst.identity) {
+      BvhPacketRays& loaded = loadTransformed(inst, lanes, tfar);
+      return {&mapped.get(), &loaded};
+    }
+    ObjectRayPacket& packet = objectPacket(inst, lanes, tfar);
+    return {&packet, &identityBvhRays(lanes, world)};
+  }
+
   /// The loaded form of the identity packet for a BvhAccel, with the tfar of `lanes` as the
   /// packet holds it now (objectPacket must have been called for them, and keeps the loaded
   /// tfar once loaded); `world` holds the walk's box rays.
@@ -362,34 +380,24 @@ struct TopLevelPacketWalk {
         return w.hits[l].t < w.rays[l].tfar ? w.hits[l].t : w.rays[l].tfar;
       };
       unsigned changed = 0;
-      if (!inst.identity && isBvhAccel(*inst.accel)) {
-        ObjectRayPacket& packet = w.mapped.get();
-        BvhPacketRays& loaded = w.loadTransformed(inst, lanes, tfar);
-        const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
-        changed = bvh.intersectLoadedPacket(packet, loaded, loaded.coherent, w.hits, *w.ctx);
-        // Lanes with other object-space direction signs than the first walk alone.
-        for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
-          const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (bvh.intersect(BvhAccel::packetLane(packet, loaded, l), w.hits[l], *w.ctx))
-            changed |= 1u << l;
-        }
-      } else if (ObjectRayPacket& packet = w.objectPacket(inst, lanes, tfar);
-                 inst.identity && isBvhAccel(*inst.accel)) {
-        BvhPacketRays& loaded = w.identityBvhRays(lanes, boxRays);
+      if (isBvhAccel(*inst.accel)) {
+        const auto [packet, loaded] = w.bvhPacket(inst, lanes, tfar, boxRays);
         const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
         const BvhSubtree root = ref.subtree();
-        changed = bvh.intersectLoadedPacket(packet, loaded, lanes & loaded.coherent, w.hits, *w.ctx,
-                                            root);
-        // Lanes the packet test does not take walk the same subtree alone (none today: the
-        // identity packet loads every lane of the walk).
-        for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
+        changed = bvh.intersectLoadedPacket(*packet, *loaded, lanes & loaded->coherent, w.hits,
+                                            *w.ctx, root);
+        // Lanes the packet test does not take walk the same subtree alone: in a transformed
+        // instance, those with other object-space direction signs than the first (the identity
+        // packet loads every lane of the walk).
+        for (unsigned m = lanes & ~loaded->coherent; m != 0; m &= m - 1) {
           const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (bvh.intersectSubtree(BvhAccel::packetLane(packet, w.identityBvh, l), w.hits[l],
-                                   root.child, root.count, *w.ctx))
+          if (bvh.intersectSubtree(BvhAccel::packetLane(*packet, *loaded, l), w.hits[l], root.child,
+                                   root.count, *w.ctx))
             changed |= 1u << l;
         }
       } else {
-        changed = inst.accel->intersectPacket(packet, lanes, w.hits, *w.ctx);
+        changed =
+            inst.accel->intersectPacket(w.objectPacket(inst, lanes, tfar), lanes, w.hits, *w.ctx);
       }
       for (unsigned m = changed; m != 0; m &= m - 1) {
         const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
@@ -408,30 +416,20 @@ struct TopLevelPacketWalk {
       const InstanceRecord& inst = w.top->instances_[ref.instance];
       const auto tfar = [&](unsigned l) { return w.rays[l].tfar; };
       unsigned found = 0;
-      if (!inst.identity && isBvhAccel(*inst.accel)) {
-        ObjectRayPacket& packet = w.mapped.get();
-        BvhPacketRays& loaded = w.loadTransformed(inst, lanes, tfar);
-        const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
-        found = bvh.occludedLoadedPacket(packet, loaded, loaded.coherent, *w.ctx);
-        for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
-          const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (bvh.occluded(BvhAccel::packetLane(packet, loaded, l), *w.ctx)) found |= 1u << l;
-        }
-      } else if (ObjectRayPacket& packet = w.objectPacket(inst, lanes, tfar);
-                 inst.identity && isBvhAccel(*inst.accel)) {
-        BvhPacketRays& loaded = w.identityBvhRays(lanes, boxRays);
+      if (isBvhAccel(*inst.accel)) {
+        const auto [packet, loaded] = w.bvhPacket(inst, lanes, tfar, boxRays);
         const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
         const BvhSubtree root = ref.subtree();
-        found = bvh.occludedLoadedPacket(packet, loaded, lanes & loaded.coherent, *w.ctx, root);
+        found = bvh.occludedLoadedPacket(*packet, *loaded, lanes & loaded->coherent, *w.ctx, root);
         // As in intersectLeaf: lanes outside the packet test walk the subtree alone.
-        for (unsigned m = lanes & ~loaded.coherent; m != 0; m &= m - 1) {
+        for (unsigned m = lanes & ~loaded->coherent; m != 0; m &= m - 1) {
           const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (bvh.occludedSubtree(BvhAccel::packetLane(packet, w.identityBvh, l), root.child,
-                                  root.count, *w.ctx))
+          if (bvh.occludedSubtree(BvhAccel::packetLane(*packet, *loaded, l), root.child, root.count,
+                                  *w.ctx))
             found |= 1u << l;
         }
       } else {
-        found = inst.accel->occludedPacket(packet, lanes, *w.ctx);
+        found = inst.accel->occludedPacket(w.objectPacket(inst, lanes, tfar), lanes, *w.ctx);
       }
       if (found != 0) w.top->rememberOccluder(ref.instance, *w.ctx);
       blocked |= found;
