@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "LightTerms.h"
+#include "MaterialRangeIndex.h"
 #include "tracegraph/backend/ObjectAccel.h"
 #include "tracegraph/backend/render/RayOffset.h"
 #include "tracegraph/backend/render/RenderScene.h"
@@ -181,6 +182,8 @@ class Shader {
   RenderSettings settings_;
   bool whitted_;
   std::vector<HighlightLimits> highlightLimits_;  ///< by material index (see Shading.cpp)
+  /// By instance: an index over RenderScene::instanceMaterialRanges (empty where it is).
+  std::vector<MaterialRangeIndex> rangeIndex_;
   Material defaultMaterial_{};  ///< for hits without a material, as RenderScene gives
   /// rs_.pointLights by four, for the baseline light terms (when pointTerms8_ is null).
   std::vector<PointLightGroup<4>> pointGroups4_;

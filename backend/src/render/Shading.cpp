@@ -361,6 +361,10 @@ Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
       whitted_(settings.mode == RenderMode::Whitted) {
   highlightLimits_.reserve(scene.materials.size());
   for (const Material& m : scene.materials) highlightLimits_.push_back(highlightLimits(m));
+  rangeIndex_.resize(scene.instanceMaterialRanges.size());
+  for (std::size_t i = 0; i < rangeIndex_.size(); ++i)
+    if (!scene.instanceMaterialRanges[i].empty())
+      rangeIndex_[i] = MaterialRangeIndex(scene.instanceMaterialRanges[i]);
   // Unused lanes of the last group repeat a light (groupLights); their terms are never read.
   const std::vector<PointLight>& lights = scene.pointLights;
   // Eight lights per pass where the packet kernels use AVX2 or wider, for more than four lights
@@ -444,7 +448,11 @@ bool Shader::mayTrace(int depth, float childWeight, TileCounters& counters) cons
 
 SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const {
   // RenderScene::material, keeping the index for the material's highlight cutoff.
-  const std::uint32_t index = rs_.materialIndex(hit.instanceId, hit.objectId, hit.primId);
+  const std::uint32_t index =
+      rs_.materialIndexWith(hit.instanceId, hit.objectId, hit.primId,
+                            [&](const MaterialRangeIndex::Ranges& ranges, std::uint32_t primId) {
+                              return rangeIndex_[hit.instanceId].find(ranges, primId);
+                            });
   const bool listed = index < rs_.materials.size();
   SurfaceShading sh{ray, hit, sd, listed ? rs_.materials[index] : defaultMaterial_};
   sh.highlight = listed ? highlightLimits_[index] : highlightLimits(defaultMaterial_);

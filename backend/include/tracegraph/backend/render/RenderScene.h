@@ -65,17 +65,20 @@ struct RenderScene {
   /// The material index for a hit, or kInvalidId for the built-in default (see above).
   std::uint32_t materialIndex(std::uint32_t instanceId, std::uint32_t objectId,
                               std::uint32_t primId) const {
+    return materialIndexWith(instanceId, objectId, primId, &RenderScene::rangeContaining);
+  }
+
+  /// materialIndex with the range of rule 1b found by `findRange(ranges, primId)`, which must
+  /// return what rangeContaining returns (a renderer may keep an index that finds it faster).
+  template <typename FindRange>
+  std::uint32_t materialIndexWith(std::uint32_t instanceId, std::uint32_t objectId,
+                                  std::uint32_t primId, FindRange&& findRange) const {
     if (instanceId < instanceMaterials.size() && instanceMaterials[instanceId] != kInvalidId)
       return instanceMaterials[instanceId];
     if (instanceId < instanceMaterialRanges.size() && !instanceMaterialRanges[instanceId].empty()) {
       const std::vector<MaterialRange>& ranges = instanceMaterialRanges[instanceId];
-      // Few ranges per instance: a binary search for the last range starting at or before p.
-      std::size_t lo = 0, hi = ranges.size();
-      while (hi - lo > 1) {
-        const std::size_t mid = (lo + hi) / 2;
-        if (ranges[mid].primBegin <= primId) lo = mid; else hi = mid;
-      }
-      if (ranges[lo].material != kInvalidId) return ranges[lo].material;
+      const std::uint32_t m = ranges[findRange(ranges, primId)].material;
+      if (m != kInvalidId) return m;
     }
     if (objectId < primitiveMaterials.size()) {
       const std::vector<std::uint32_t>& perPrim = primitiveMaterials[objectId];
@@ -83,6 +86,21 @@ struct RenderScene {
     }
     if (objectId < objectMaterials.size()) return objectMaterials[objectId];
     return kInvalidId;
+  }
+
+  /// The range of non-empty, sorted `ranges` that holds `primId`: the last one starting at or
+  /// before it, or the first one when none does.
+  static std::size_t rangeContaining(const std::vector<MaterialRange>& ranges,
+                                     std::uint32_t primId) {
+    std::size_t lo = 0, hi = ranges.size();
+    while (hi - lo > 1) {
+      const std::size_t mid = (lo + hi) / 2;
+      if (ranges[mid].primBegin <= primId)
+        lo = mid;
+      else
+        hi = mid;
+    }
+    return lo;
   }
 
   /// The material for a hit (the built-in default when none is assigned).
