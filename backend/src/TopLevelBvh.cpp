@@ -72,6 +72,11 @@ void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
   }
   if (empty != 0) std::erase_if(prims_, [](const BvhPrim& p) { return p.box().empty(); });
   opened_.clear();
+  soleIdentity_ = kInvalidId;
+  if (prims_.size() == 1) {
+    const InstanceRecord& inst = instances_[prims_[0].id];
+    if (inst.identity && isBvhAccel(*inst.accel)) soleIdentity_ = prims_[0].id;
+  }
   if (prims_.size() <= kOpenMaxInstances) openIdentityInstances();
   TopLevelBuildOptions options;
   // Entering an instance means a matrix transform and a descent into its object: several node
@@ -195,6 +200,8 @@ bool TopLevelBvh::occludedRef(const Ref& ref, InstanceEntry& enter, const Ray& r
 }
 
 bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const {
+  if (soleIdentity_ != kInvalidId)
+    return intersectInstance(instances_[soleIdentity_], ray, hit, ctx);
   float tfar = std::min(ray.tfar, hit.t);
   InstanceEntry enter(ray);
   return traverseBvh4<false>(bvh_.nodes, ray.origin, ray.direction, ray.tnear, tfar, ctx.nodeVisits,
@@ -224,6 +231,11 @@ void TopLevelBvh::rememberOccluder(std::uint32_t instance, TraversalContext& ctx
 bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
   // The hint's triangle first: true only where the walk would find the ray occluded as well.
   if (occludedByHint(ray, ctx)) return true;
+  if (soleIdentity_ != kInvalidId) {
+    if (!occludedInstance(instances_[soleIdentity_], ray, ctx)) return false;
+    rememberOccluder(soleIdentity_, ctx);
+    return true;
+  }
   InstanceEntry enter(ray);
   return traverseBvh4<true>(bvh_.nodes, ray.origin, ray.direction, ray.tnear, ray.tfar,
                             ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {

@@ -279,6 +279,49 @@ BOOST_AUTO_TEST_CASE(identity_instances_are_entered_by_subtree_with_unchanged_an
   BOOST_TEST(mismatches == 0u);
 }
 
+BOOST_AUTO_TEST_CASE(a_sole_identity_instance_is_walked_without_a_top_level) {
+  // One static mesh: single rays walk its BVH from the root, with the reference's answers, the
+  // packets' answers, and exactly the node visits of the object's own walk (a top level above
+  // it would add its own).
+  std::mt19937 rng(47);
+  const TriangleMesh mesh = makeRandomTriangles(rng, 2000, -4.0f, 4.0f, 0.4f);
+  Scene scene(optionsFor(AccelKind::Bvh, TopLevelKind::Bvh));
+  scene.createInstance(scene.createObject(mesh));
+  scene.commit();
+  const std::vector<Ray> rays = makeRays(rng, scene.bounds(), 3000, mesh.positions);
+  checkScene(scene, rays, "sole identity instance", 300);
+
+  const ObjectAccel& accel = *scene.objectAccel(0);
+  std::vector<Hit> packetHits(rays.size());
+  std::vector<std::uint8_t> packetOccluded(rays.size());
+  TraversalContext packetCtx;
+  scene.intersect(rays, packetHits, packetCtx);
+  scene.occluded(rays, packetOccluded, packetCtx);
+  std::size_t packetMismatches = 0, visitMismatches = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Ray& r = rays[i];
+    Hit hit;
+    TraversalContext sceneCtx, objectCtx;
+    scene.intersect(r, hit, sceneCtx);
+    Hit objectHit;
+    ObjectRay objectRay(r.origin, r.direction, r.tnear, r.tfar, 0, 0);
+    accel.intersect(objectRay, objectHit, objectCtx);
+    if (sceneCtx.nodeVisits != objectCtx.nodeVisits) ++visitMismatches;
+    if (hit.t != packetHits[i].t || hit.primId != packetHits[i].primId ||
+        scene.occluded(r) != (packetOccluded[i] != 0))
+      ++packetMismatches;
+  }
+  BOOST_TEST(packetMismatches == 0u);
+  BOOST_TEST(visitMismatches == 0u);
+
+  // Occlusion through the same path, with the occluder hint of the previous ray in play.
+  TraversalContext shadowCtx;
+  std::size_t shadowMismatches = 0;
+  for (const Ray& r : rays)
+    if (scene.occluded(r, shadowCtx) != scene.occluded(r)) ++shadowMismatches;
+  BOOST_TEST(shadowMismatches == 0u);
+}
+
 BOOST_AUTO_TEST_CASE(refit_equals_rebuild_after_vertex_moves) {
   std::mt19937 rng(25);
   const TriangleMesh base = makeTorus(2.0, 0.6, 96, 48);  // 9216 triangles: parallel refit path
