@@ -36,6 +36,9 @@ constexpr int kMedianDepth = 32;
 /// BinSet::addInterleaved); below it, preparing and merging the second set costs more.
 constexpr std::size_t kInterleaveMin = 256;
 
+/// Primitives per extra bin beyond four in binCountFor.
+constexpr std::size_t kPrimsPerBin = 20;
+
 /// A contiguous range of primitives with its bounds and the bounds of its centroids (stored as
 /// lower + upper: twice the centre, which saves a multiplication and orders the same).
 struct Range {
@@ -309,13 +312,13 @@ class Builder {
     }
   }
 
-  /// Bins for a range of `n` primitives. On all axes: 4 + n / primitivesPerBin, up to bins_
-  /// (see BvhBuildOptions::primitivesPerBin). On one axis the sweep is cheap and fewer bins cost
-  /// tree quality (about 1.5% SAH on instance boxes), so there only the bins beyond one per
-  /// primitive are dropped.
+  /// Bins for a range of `n` primitives. On all axes: few for small ranges, whose sweep and
+  /// bin reset would otherwise cost more than binning their primitives, growing to bins_ at a
+  /// few hundred. On one axis the sweep is cheap and fewer bins cost tree quality (about 1.5%
+  /// SAH on instance boxes), so there only the bins beyond one per primitive are dropped.
   int binCountFor(std::size_t n) const {
     const std::size_t wanted =
-        options_.allAxes ? 4 + n / options_.primitivesPerBin : std::max<std::size_t>(n, 4);
+        options_.allAxes ? 4 + n / kPrimsPerBin : std::max<std::size_t>(n, 4);
     return static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(bins_), wanted));
   }
 

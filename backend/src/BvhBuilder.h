@@ -38,11 +38,6 @@ struct BvhBuildOptions {
   /// Bin along all three axes (true) or only along the widest centroid extent (false: about
   /// three times cheaper, for trees that are rebuilt every frame).
   bool allAxes = true;
-  /// Binning all axes, a range of n primitives takes 4 + n / primitivesPerBin bins (at most
-  /// `bins`): few for small ranges, whose sweep and bin reset would otherwise cost more than
-  /// binning their primitives. Trees whose entries are costly to enter and few (the top level
-  /// over instances and static subtrees) take one bin per primitive.
-  std::size_t primitivesPerBin = 20;
   /// Largest leaf; bigger ranges are always split.
   std::uint32_t maxLeafSize = 4;
   /// SAH cost of visiting a node, relative to intersectionCost.
