@@ -154,6 +154,34 @@ BOOST_AUTO_TEST_CASE(untraceable_rays_never_hit) {
   BOOST_TEST(!scene.occluded({{0.5f, 0.5f, -1.0f}, 2.0f, {0, 0, 1}, 1.0f}));
 }
 
+BOOST_AUTO_TEST_CASE(occluder_hints_rest_while_they_keep_failing_and_return_when_they_pay) {
+  // Two unit boxes; the hint names a triangle of the first. Rays beside both boxes walk and
+  // miss: a failing hint test is the only triangle test they make.
+  Scene scene;
+  const ObjectId box = scene.createObject(makeBox());
+  scene.createInstance(box);
+  scene.createInstance(box, Affine3d::translation({4, 0, 0}));
+  scene.commit();
+  const auto through = [](float x) { return Ray{{x, 0.2f, -1.0f}, 0.0f, {0, 0, 1}, 3.0f}; };
+  TraversalContext ctx;
+  BOOST_TEST(scene.occluded(through(0.6f), ctx));
+
+  // 200 rays past both boxes: the hint fails every time, so after a while it is tested on one
+  // query in a few only.
+  const std::uint64_t testsBefore = ctx.triangleTests;
+  for (int i = 0; i < 200; ++i) BOOST_TEST(!scene.occluded(through(2.5f), ctx));
+  const std::uint64_t hintTests = ctx.triangleTests - testsBefore;
+  BOOST_TEST(hintTests >= 20u);
+  BOOST_TEST(hintTests < 60u);
+
+  // Rays the hint's triangle blocks again: the tests it still makes succeed, and once its rate
+  // has recovered every query is answered by it, without a walk.
+  for (int i = 0; i < 200; ++i) BOOST_TEST(scene.occluded(through(0.6f), ctx));
+  const std::uint64_t visitsBefore = ctx.nodeVisits;
+  for (int i = 0; i < 20; ++i) BOOST_TEST(scene.occluded(through(0.6f), ctx));
+  BOOST_TEST(ctx.nodeVisits == visitsBefore);
+}
+
 BOOST_AUTO_TEST_CASE(occluder_hints_answer_repeats_and_never_cross_scenes_or_commits) {
   // Five unit boxes along x; shadow-like rays along +z through one of them.
   Scene a;

@@ -126,10 +126,20 @@ struct TraversalContext {
   /// light are mostly blocked by the same triangle. Only a hint: a query answers "occluded"
   /// from it only when that triangle's own exact test says so, and the walk would then have
   /// found the ray occluded too, so answers never depend on it.
+  ///
+  /// Where neighbouring rays are blocked by different triangles (a cloud of small objects), the
+  /// hint's test costs more than its rare successes save, so the hint keeps its recent success
+  /// rate and, while that is low, is tested on one query in a few only (enough to notice when it
+  /// pays again).
   struct OccluderHint {
     std::uint64_t build = 0;      ///< the top-level build it refers to (0: none)
     std::uint32_t instance = 0;   ///< index of the instance record in that build
     std::uint32_t primitive = 0;  ///< the object accelerator's own index of the triangle
+    /// Share of the recent hint tests that found the ray occluded, in 1/65536 (a moving average
+    /// over about sixteen tests; starts at one half).
+    std::uint16_t successRate = 32768;
+    /// Queries that left the hint untested since its last test (while successRate is low).
+    std::uint16_t skipped = 0;
   };
   /// The hint of the last occluded ray (see OccluderHint).
   OccluderHint occluder;
