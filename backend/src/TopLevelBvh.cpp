@@ -35,9 +35,10 @@ constexpr double kOpenedEntriesPerInstance = 2.0;
 
 /// Success rate (TraversalContext::OccluderHint::successRate, in 1/65536) below which the
 /// occluder hint is not tested on every query. A failed test costs about a seventh of an
-/// occluded ray's walk (the BART sphereflake's shadow rays: 10.6 ms hinted at a 9.5% success
-/// rate, 10.1 ms without the hint), so the hint pays from about one success in seven; a fifth
-/// leaves a margin. The BART kitchen's and robots' shadow rays succeed 55-100% of the time.
+/// occluded ray's walk (the built-in sphereflake's shadow rays, whose hint succeeds 9.5% of the
+/// time: 10.6 ms hinted, 10.1 ms without the hint), so the hint pays from about one success in
+/// seven; a fifth leaves a margin. The BART kitchen's and robots' shadow rays succeed 55-100%
+/// of the time.
 constexpr std::uint16_t kHintWorthRate = 65536 / 5;
 /// While the rate is below kHintWorthRate, the hint is tested on one query in this many.
 constexpr std::uint16_t kHintProbeInterval = 8;
