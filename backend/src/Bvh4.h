@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <new>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -89,6 +90,32 @@ struct DefaultInitAllocator : std::allocator<T> {
   template <class U>
   void construct(U* p) noexcept {
     ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+/// An allocator whose value-less construct leaves the element as the memory holds it, for
+/// arrays of trivially copyable, trivially destructible elements that are written before they
+/// are read (objects of such types begin their lifetime implicitly in the allocated storage).
+/// Unlike DefaultInitAllocator it also skips default member initialisers: the leaf triangles
+/// of a BVH (Vec3f zeroes its members) were zeroed on one thread before the parallel pass
+/// that writes them.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  explicit UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U*) noexcept {
+    static_assert(std::is_trivially_copyable_v<U> && std::is_trivially_destructible_v<U>,
+                  "only elements without construction or destruction may be left unwritten");
   }
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {

@@ -145,13 +145,14 @@ class BvhAccel final : public ObjectAccel {
 
   AccelKind kind_;
   Bvh4NodeArray nodes_;
-  std::vector<TriangleVertices> triangles_;  ///< in leaf order
-  std::vector<std::uint32_t> primIds_;       ///< mesh triangle index of each triangles_ entry
-  std::vector<std::uint32_t> indices_;       ///< mesh indices at the last build (refit check)
-  std::vector<BvhPrim> prims_;               ///< SAH build scratch
-  std::vector<Vec3f> centroids_;             ///< Morton build scratch: lower + upper per box
-  std::vector<std::uint32_t> rank_;          ///< leaf position of each mesh triangle (for refits)
-  BvhMortonBuilder morton_;                  ///< Morton build scratch, kept between builds
+  /// In leaf order; every build writes all of them (see UninitializedAllocator).
+  std::vector<TriangleVertices, UninitializedAllocator<TriangleVertices>> triangles_;
+  std::vector<std::uint32_t> primIds_;  ///< mesh triangle index of each triangles_ entry
+  std::vector<std::uint32_t> indices_;  ///< mesh indices at the last build (refit check)
+  BvhPrimArray prims_;                  ///< SAH build scratch
+  std::vector<Vec3f> centroids_;        ///< Morton build scratch: lower + upper per box
+  std::vector<std::uint32_t> rank_;     ///< leaf position of each mesh triangle (for refits)
+  BvhMortonBuilder morton_;             ///< Morton build scratch, kept between builds
   Box3f bounds_;
   BuildStats stats_;
 };

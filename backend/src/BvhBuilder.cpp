@@ -218,7 +218,7 @@ struct RangeBounds {
 
 class Builder {
  public:
-  Builder(std::vector<BvhPrim>& prims, const BvhBuildOptions& options, BvhBuildResult& out)
+  Builder(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out)
       : prims_(prims),
         options_(options),
         bins_(std::clamp(options.bins, 2, BvhBuildOptions::kMaxBins)),
@@ -603,7 +603,7 @@ class Builder {
     return tally;
   }
 
-  std::vector<BvhPrim>& prims_;
+  BvhPrimArray& prims_;
   const BvhBuildOptions& options_;
   const int bins_;
   BvhBuildResult& out_;
@@ -612,7 +612,7 @@ class Builder {
 
 }  // namespace
 
-void buildBvh4(std::vector<BvhPrim>& prims, const BvhBuildOptions& options, BvhBuildResult& out) {
+void buildBvh4(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out) {
   Builder(prims, options, out).build();
 }
 

@@ -31,6 +31,11 @@ struct alignas(16) BvhPrim {
   Box3f box() const { return {{lower[0], lower[1], lower[2]}, {upper[0], upper[1], upper[2]}}; }
 };
 
+/// Primitives as the builders take them. Default-initialising: a build writes every primitive
+/// right after sizing the array, so a zero fill first would be a pass over memory for nothing
+/// (on one thread, before the parallel fill).
+using BvhPrimArray = std::vector<BvhPrim, DefaultInitAllocator<BvhPrim>>;
+
 /// Builder settings; the defaults suit high-quality object BVHs.
 struct BvhBuildOptions {
   /// Bins per axis of the SAH sweep (at most kMaxBins).
@@ -74,7 +79,7 @@ struct BvhBuildResult {
 /// a leaf slot (child, count) refers to prims[child, child + count). `out.nodes` keeps its
 /// capacity between builds, so per-frame rebuilds do not reallocate. Deterministic: the same
 /// input gives the same tree whatever the number of threads (only node numbering may differ).
-void buildBvh4(std::vector<BvhPrim>& prims, const BvhBuildOptions& options, BvhBuildResult& out);
+void buildBvh4(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out);
 
 /// SAH cost of a BVH4: the expected cost of a ray that hits the root box, counting
 /// `traversalCost` per node visited and `intersectionCost` per primitive tested, with the

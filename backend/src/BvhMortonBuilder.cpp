@@ -302,8 +302,7 @@ void BvhMortonBuilder::sortKeys() {
   }
 }
 
-void buildBvh4Morton(std::vector<BvhPrim>& prims, const BvhBuildOptions& options,
-                     BvhBuildResult& out) {
+void buildBvh4Morton(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out) {
   std::vector<Box3f> boxes(prims.size());
   for (std::size_t i = 0; i < prims.size(); ++i) boxes[i] = prims[i].box();
   BvhMortonOptions mortonOptions;
@@ -314,7 +313,7 @@ void buildBvh4Morton(std::vector<BvhPrim>& prims, const BvhBuildOptions& options
   std::vector<std::uint32_t> order;
   BvhMortonBuilder builder;
   builder.build(boxes, mortonOptions, order, out);
-  std::vector<BvhPrim> sorted(prims.size());
+  BvhPrimArray sorted(prims.size());
   for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = prims[order[k]];
   prims.swap(sorted);
 }

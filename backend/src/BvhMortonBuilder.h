@@ -128,7 +128,6 @@ class BvhMortonBuilder {
 /// buildBvh4's contract (prims reordered into leaf order, leaf slots index prims) with the
 /// Morton builder; of `options` only maxLeafSize, parallelThreshold and the SAH weights apply.
 /// Allocates its scratch on every call: for tests and one-off builds.
-void buildBvh4Morton(std::vector<BvhPrim>& prims, const BvhBuildOptions& options,
-                     BvhBuildResult& out);
+void buildBvh4Morton(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out);
 
 }  // namespace tg::detail

@@ -82,10 +82,10 @@ class TopLevelBvh final : public TopLevelAccel {
   /// walk and a second set of box-test constants per ray for nothing (6% of a flattened BART
   /// kitchen's single-ray trace).
   std::uint32_t soleIdentity_ = kInvalidId;
-  std::vector<Ref> refs_;             ///< leaf order
-  std::vector<Ref> opened_;           ///< build scratch: what the primitives' ids name
-  std::vector<BvhPrim> prims_;        ///< build scratch
-  std::vector<BvhPrim> openedPrims_;  ///< build scratch: prims_ with subtrees
+  std::vector<Ref> refs_;     ///< leaf order
+  std::vector<Ref> opened_;   ///< build scratch: what the primitives' ids name
+  BvhPrimArray prims_;        ///< build scratch
+  BvhPrimArray openedPrims_;  ///< build scratch: prims_ with subtrees
   std::vector<std::pair<float, std::uint32_t>> openHeap_;  ///< build scratch
   TopLevelBvhBuilder builder_;
   TopLevelStats stats_;

@@ -164,8 +164,8 @@ inline float medianKey(const BvhPrim& p, int axis) {
 
 class Builder {
  public:
-  Builder(std::vector<BvhPrim>& prims, std::vector<BvhPrim>& scratch,
-          const TopLevelBuildOptions& options, BvhBuildResult& out)
+  Builder(BvhPrimArray& prims, BvhPrimArray& scratch, const TopLevelBuildOptions& options,
+          BvhBuildResult& out)
       : prims_(prims),
         scratch_(scratch),
         options_(options),
@@ -599,8 +599,8 @@ class Builder {
     return counts;
   }
 
-  std::vector<BvhPrim>& prims_;
-  std::vector<BvhPrim>& scratch_;
+  BvhPrimArray& prims_;
+  BvhPrimArray& scratch_;
   const TopLevelBuildOptions& options_;
   const int bins_;
   BvhBuildResult& out_;
@@ -609,7 +609,7 @@ class Builder {
 
 }  // namespace
 
-void TopLevelBvhBuilder::build(std::vector<BvhPrim>& prims, const TopLevelBuildOptions& options,
+void TopLevelBvhBuilder::build(BvhPrimArray& prims, const TopLevelBuildOptions& options,
                                BvhBuildResult& out) {
   Builder(prims, scratch_, options, out).build();
 }

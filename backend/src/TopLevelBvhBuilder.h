@@ -41,13 +41,13 @@ class TopLevelBvhBuilder {
   /// Builds over `prims` and reorders them so that every leaf's primitives are contiguous: a
   /// leaf slot (child, count) refers to prims[child, child + count). `out.nodes` keeps its
   /// capacity between builds. Fills every field of `out` but sahCost (left negative).
-  void build(std::vector<BvhPrim>& prims, const TopLevelBuildOptions& options, BvhBuildResult& out);
+  void build(BvhPrimArray& prims, const TopLevelBuildOptions& options, BvhBuildResult& out);
 
   /// Bytes held by the buffers kept between builds.
   std::size_t scratchBytes() const { return scratch_.capacity() * sizeof(BvhPrim); }
 
  private:
-  std::vector<BvhPrim> scratch_;  ///< target of the parallel partition
+  BvhPrimArray scratch_;  ///< target of the parallel partition
 };
 
 }  // namespace tg::detail

@@ -427,7 +427,7 @@ BOOST_AUTO_TEST_CASE(refit_recomputes_boxes_bottom_up) {
 BOOST_AUTO_TEST_CASE(prim_interface_matches_the_box_interface) {
   std::mt19937 rng(6);
   const std::vector<Box3f> boxes = randomBoxes(rng, 5000, 1.0f);
-  std::vector<BvhPrim> prims;
+  BvhPrimArray prims;
   for (std::size_t i = 0; i < boxes.size(); ++i)
     prims.push_back(BvhPrim::make(boxes[i], static_cast<std::uint32_t>(i)));
   BvhBuildOptions options;

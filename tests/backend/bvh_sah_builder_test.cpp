@@ -31,7 +31,7 @@ using tg::test::sameBox;
 
 /// Builds over `boxes` and checks the result; returns the tree description.
 TreeCheck buildAndCheck(const std::vector<Box3f>& boxes, const BvhBuildOptions& options,
-                        bool allowBigLeaves, std::vector<BvhPrim>& prims, BvhBuildResult& out) {
+                        bool allowBigLeaves, BvhPrimArray& prims, BvhBuildResult& out) {
   prims.clear();
   for (std::size_t i = 0; i < boxes.size(); ++i)
     prims.push_back(BvhPrim::make(boxes[i], static_cast<std::uint32_t>(i)));
@@ -86,7 +86,7 @@ BOOST_AUTO_TEST_CASE(random_boxes_give_valid_trees_in_both_modes) {
     options.bins = allAxes ? 32 : 16;
     options.maxLeafSize = allAxes ? 4 : 2;
     for (const std::size_t n : {2, 3, 5, 17, 100, 1000, 20000}) {
-      std::vector<BvhPrim> prims;
+      BvhPrimArray prims;
       BvhBuildResult out;
       const TreeCheck c =
           buildAndCheck(randomBoxes(n, 7 + static_cast<std::uint32_t>(n), 100.0f, 2.0f), options,
@@ -99,7 +99,7 @@ BOOST_AUTO_TEST_CASE(random_boxes_give_valid_trees_in_both_modes) {
 
 BOOST_AUTO_TEST_CASE(awkward_inputs) {
   BvhBuildOptions options;
-  std::vector<BvhPrim> prims;
+  BvhPrimArray prims;
   BvhBuildResult out;
 
   TreeCheck c = buildAndCheck({}, options, false, prims, out);
@@ -151,7 +151,7 @@ BOOST_AUTO_TEST_CASE(two_clusters_are_separated_at_the_root) {
   for (const bool allAxes : {true, false}) {
     BvhBuildOptions options;
     options.allAxes = allAxes;
-    std::vector<BvhPrim> prims;
+    BvhPrimArray prims;
     BvhBuildResult out;
     const TreeCheck c = buildAndCheck(boxes, options, false, prims, out);
     BOOST_TEST(c.errors == 0u, c.firstError);
@@ -169,7 +169,7 @@ BOOST_AUTO_TEST_CASE(trees_do_not_depend_on_the_thread_count) {
     BvhBuildOptions options;
     options.allAxes = allAxes;
     options.parallelThreshold = 512;  // the parallel binning and subtree tasks run
-    std::vector<BvhPrim> prims[2];
+    BvhPrimArray prims[2];
     BvhBuildResult out[2];
     TreeCheck c[2];
     tbb::task_arena(1).execute(
@@ -197,7 +197,7 @@ BOOST_AUTO_TEST_CASE(chunked_partitions_give_the_serial_tree) {
   const std::vector<Box3f> boxes = randomBoxes(30000, 13, 200.0f, 3.0f);
   // Ids of every leaf, each leaf's sorted, depth first from the root (node numbers depend on
   // which thread took a number first; the walk does not).
-  const auto leafIds = [](const BvhBuildResult& out, const std::vector<BvhPrim>& prims) {
+  const auto leafIds = [](const BvhBuildResult& out, const BvhPrimArray& prims) {
     std::vector<std::uint32_t> ids;
     std::vector<std::uint32_t> stack{0};
     while (!stack.empty()) {
@@ -220,7 +220,7 @@ BOOST_AUTO_TEST_CASE(chunked_partitions_give_the_serial_tree) {
   for (const bool allAxes : {true, false}) {
     BvhBuildOptions options;
     options.allAxes = allAxes;
-    std::vector<BvhPrim> prims[2];
+    BvhPrimArray prims[2];
     BvhBuildResult out[2];
     TreeCheck c[2];
     options.partitionChunk = boxes.size();  // every partition serial
@@ -238,7 +238,7 @@ BOOST_AUTO_TEST_CASE(chunked_partitions_give_the_serial_tree) {
 BOOST_AUTO_TEST_CASE(pairs_split_only_when_the_sah_says_so) {
   // Ranges of two take their split without binning; it must be the one binning gives.
   BvhBuildOptions options;
-  std::vector<BvhPrim> prims;
+  BvhPrimArray prims;
   BvhBuildResult out;
   // Two small boxes far apart: two leaves, the smaller centroid on the first axis in slot 0.
   const Box3f far{{10, 0, 0}, {11, 1, 1}}, near{{0, 0, 0}, {1, 1, 1}};

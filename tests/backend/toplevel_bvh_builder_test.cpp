@@ -25,15 +25,15 @@ namespace {
 using TreeCheck = tg::test::Bvh4TreeCheck;
 using tg::test::sameBox;
 
-std::vector<BvhPrim> makePrims(const std::vector<Box3f>& boxes) {
-  std::vector<BvhPrim> prims;
+BvhPrimArray makePrims(const std::vector<Box3f>& boxes) {
+  BvhPrimArray prims;
   for (std::size_t i = 0; i < boxes.size(); ++i)
     prims.push_back(BvhPrim::make(boxes[i], static_cast<std::uint32_t>(i)));
   return prims;
 }
 
 /// Checks a result over `boxes` (the input of the build that reordered `prims`).
-TreeCheck check(const std::vector<Box3f>& boxes, const std::vector<BvhPrim>& prims,
+TreeCheck check(const std::vector<Box3f>& boxes, const BvhPrimArray& prims,
                 const BvhBuildResult& out, std::uint32_t maxLeaf, bool allowBigLeaves) {
   TreeCheck c;
   if (boxes.empty()) {
@@ -60,7 +60,7 @@ TreeCheck check(const std::vector<Box3f>& boxes, const std::vector<BvhPrim>& pri
 }
 
 TreeCheck buildAndCheck(const std::vector<Box3f>& boxes, const TopLevelBuildOptions& options,
-                        bool allowBigLeaves, std::vector<BvhPrim>& prims, BvhBuildResult& out) {
+                        bool allowBigLeaves, BvhPrimArray& prims, BvhBuildResult& out) {
   prims = makePrims(boxes);
   TopLevelBvhBuilder builder;
   builder.build(prims, options, out);
@@ -69,7 +69,7 @@ TreeCheck buildAndCheck(const std::vector<Box3f>& boxes, const TopLevelBuildOpti
 
 /// Depth-first description of a tree that does not depend on node numbering or on the order of
 /// primitives within a leaf: slot kinds, boxes, and each leaf's sorted ids.
-std::vector<double> describe(const Bvh4NodeArray& nodes, const std::vector<BvhPrim>& prims) {
+std::vector<double> describe(const Bvh4NodeArray& nodes, const BvhPrimArray& prims) {
   std::vector<double> d;
   if (nodes.empty()) return d;
   std::vector<std::uint32_t> stack{0};
@@ -118,7 +118,7 @@ std::vector<Box3f> randomBoxes(std::size_t n, std::uint32_t seed, float side, fl
 BOOST_AUTO_TEST_CASE(random_boxes_give_valid_trees) {
   TopLevelBuildOptions options;
   for (const std::size_t n : {2, 3, 4, 5, 8, 9, 17, 100, 1000, 20000}) {
-    std::vector<BvhPrim> prims;
+    BvhPrimArray prims;
     BvhBuildResult out;
     const TreeCheck c =
         buildAndCheck(randomBoxes(n, 7 + static_cast<std::uint32_t>(n), 100.0f, 2.0f), options,
@@ -144,11 +144,11 @@ BOOST_AUTO_TEST_CASE(same_tree_as_the_general_builder_on_one_axis) {
       general.traversalCost = options.traversalCost;
       general.intersectionCost = options.intersectionCost;
       general.parallelThreshold = threshold;
-      std::vector<BvhPrim> prims;
+      BvhPrimArray prims;
       BvhBuildResult out;
       const TreeCheck c = buildAndCheck(boxes, options, false, prims, out);
       BOOST_TEST(c.errors == 0u, c.firstError);
-      std::vector<BvhPrim> generalPrims = makePrims(boxes);
+      BvhPrimArray generalPrims = makePrims(boxes);
       BvhBuildResult generalOut;
       buildBvh4(generalPrims, general, generalOut);
       BOOST_TEST((describe(out.nodes, prims) == describe(generalOut.nodes, generalPrims)),
@@ -159,7 +159,7 @@ BOOST_AUTO_TEST_CASE(same_tree_as_the_general_builder_on_one_axis) {
 
 BOOST_AUTO_TEST_CASE(awkward_inputs) {
   TopLevelBuildOptions options;
-  std::vector<BvhPrim> prims;
+  BvhPrimArray prims;
   BvhBuildResult out;
 
   TreeCheck c = buildAndCheck({}, options, false, prims, out);
@@ -208,7 +208,7 @@ BOOST_AUTO_TEST_CASE(trees_do_not_depend_on_the_thread_count) {
   const std::vector<Box3f> boxes = randomBoxes(60000, 11, 200.0f, 3.0f);
   TopLevelBuildOptions options;
   options.parallelThreshold = 512;  // the parallel binning, partition and subtree tasks run
-  std::vector<BvhPrim> prims[2];
+  BvhPrimArray prims[2];
   BvhBuildResult out[2];
   TreeCheck c[2];
   tbb::task_arena(1).execute(
@@ -231,7 +231,7 @@ BOOST_AUTO_TEST_CASE(rebuilding_with_one_builder_reuses_its_scratch) {
   options.parallelThreshold = 1000;
   for (std::uint32_t frame = 0; frame < 3; ++frame) {
     const std::vector<Box3f> boxes = randomBoxes(9000 - 2000 * frame, 30 + frame, 50.0f, 2.0f);
-    std::vector<BvhPrim> a = makePrims(boxes), b = makePrims(boxes);
+    BvhPrimArray a = makePrims(boxes), b = makePrims(boxes);
     BvhBuildResult outA, outB;
     kept.build(a, options, outA);
     TopLevelBvhBuilder().build(b, options, outB);
