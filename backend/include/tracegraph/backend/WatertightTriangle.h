@@ -11,6 +11,10 @@
 #include <cmath>
 #include <cstddef>
 
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
+
 #include "tracegraph/backend/Ray.h"
 
 namespace tg {
@@ -59,9 +63,19 @@ struct WatertightRay {
     const Vec3f ad = abs(dir);
     kz = maxDimension(ad);
     shearAxes(dir, kz, kx, ky);
+#if defined(__SSE2__)
+    // The three quotients in one vector division: correctly rounded lane by lane, so the same
+    // bits as three scalar ones, for a third of the divider's time (every ray makes one).
+    alignas(16) float q[4];
+    _mm_store_ps(q, _mm_div_ps(_mm_set_ps(1.0f, 1.0f, dir[ky], dir[kx]), _mm_set1_ps(dir[kz])));
+    sx = q[0];
+    sy = q[1];
+    sz = q[2];
+#else
     sx = dir[kx] / dir[kz];
     sy = dir[ky] / dir[kz];
     sz = 1.0f / dir[kz];
+#endif
   }
 };
 
