@@ -154,6 +154,45 @@ BOOST_AUTO_TEST_CASE(untraceable_rays_never_hit) {
   BOOST_TEST(!scene.occluded({{0.5f, 0.5f, -1.0f}, 2.0f, {0, 0, 1}, 1.0f}));
 }
 
+BOOST_AUTO_TEST_CASE(is_traceable_follows_its_definition_for_every_special_value) {
+  // isTraceable tests the ray's two halves in vectors; its documented rule, written out here
+  // component by component, must give the same answer for every mix of special values.
+  const float values[] = {0.0f,
+                          -0.0f,
+                          1.0f,
+                          -2.5f,
+                          kInfinity,
+                          -kInfinity,
+                          std::nanf(""),
+                          std::numeric_limits<float>::max(),
+                          -std::numeric_limits<float>::max(),
+                          std::numeric_limits<float>::denorm_min()};
+  const auto finite = [](float x) { return std::isfinite(x); };
+  std::size_t traceable = 0, checked = 0;
+  for (const float a : values)
+    for (const float b : values)
+      for (const float c : values)
+        for (const float t : values) {
+          // Origin, direction and the interval each take their turn with the special values.
+          const Ray rays[] = {{{a, b, c}, 0.0f, {0.0f, 1.0f, 0.0f}, t},
+                              {{1.0f, 2.0f, 3.0f}, t, {a, b, c}, 1.0f},
+                              {{a, 0.0f, 0.0f}, t, {b, c, 1.0f}, a}};
+          for (const Ray& r : rays) {
+            const bool expected =
+                finite(r.origin.x) && finite(r.origin.y) && finite(r.origin.z) &&
+                finite(r.direction.x) && finite(r.direction.y) && finite(r.direction.z) &&
+                !(r.direction.x == 0.0f && r.direction.y == 0.0f && r.direction.z == 0.0f) &&
+                !std::isnan(r.tnear) && !std::isnan(r.tfar) && r.tnear <= r.tfar;
+            BOOST_TEST(isTraceable(r) == expected);
+            traceable += expected ? 1 : 0;
+            ++checked;
+          }
+        }
+  // Both answers occur often, so neither a constant nor a swapped test can pass.
+  BOOST_TEST(traceable > checked / 10);
+  BOOST_TEST(traceable < checked / 2);
+}
+
 BOOST_AUTO_TEST_CASE(occluder_hints_rest_while_they_keep_failing_and_return_when_they_pay) {
   // Two unit boxes; the hint names a triangle of the first. Rays beside both boxes walk and
   // miss: a failing hint test is the only triangle test they make.

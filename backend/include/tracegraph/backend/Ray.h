@@ -3,8 +3,13 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "tracegraph/backend/Vec3.h"
 
@@ -34,9 +39,27 @@ struct Ray {
 /// True for the rays a scene traces: finite origin and direction, a direction that is not
 /// zero, and tnear <= tfar (neither NaN). Other rays never hit and are never occluded.
 inline bool isTraceable(const Ray& ray) {
+#if defined(__SSE2__)
+  // The ray as its two 16-byte halves, (origin, tnear) and (direction, tfar): every test in a
+  // few vector operations and one branch. The scalar form's dozen branches were a tenth of a
+  // single ray's time for rays that miss a scene after a node or two.
+  static_assert(sizeof(Ray) == 32 && offsetof(Ray, tnear) == 12 && offsetof(Ray, direction) == 16 &&
+                offsetof(Ray, tfar) == 28);
+  const __m128 a = _mm_loadu_ps(&ray.origin.x), b = _mm_loadu_ps(&ray.direction.x);
+  const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
+  const __m128 largest = _mm_set1_ps(std::numeric_limits<float>::max());
+  // |x| <= max is false for infinities and NaN.
+  const int finite = _mm_movemask_ps(_mm_cmple_ps(_mm_and_ps(a, magnitude), largest)) &
+                     _mm_movemask_ps(_mm_cmple_ps(_mm_and_ps(b, magnitude), largest));
+  const int zero = _mm_movemask_ps(_mm_cmpeq_ps(b, _mm_setzero_ps()));
+  // tnear <= tfar is false when either is NaN.
+  const int ordered = _mm_movemask_ps(_mm_cmple_ps(a, b)) >> 3;
+  return (finite & 7) == 7 && (zero & 7) != 7 && ordered != 0;
+#else
   return isFinite(ray.origin) && isFinite(ray.direction) &&
          !(ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) &&
          !std::isnan(ray.tnear) && !std::isnan(ray.tfar) && ray.tnear <= ray.tfar;
+#endif
 }
 
 /// The closest hit along a ray.
