@@ -152,7 +152,7 @@ struct Bvh4Ray {
   float tnear;     ///< smallest t that counts
 
   Bvh4Ray(const Vec3f& org, const Vec3f& dir, float tnear_)
-      : Bvh4Ray(org, dir, Vec3f(1.0f / dir.x, 1.0f / dir.y, 1.0f / dir.z), tnear_) {}
+      : Bvh4Ray(org, dir, reciprocals(dir), tnear_) {}
 
   /// From a ray whose reciprocal direction is already known (1/dir per component, +-inf for
   /// +-0, as ObjectRay::inverseDirection holds it): the same constants without three divisions.

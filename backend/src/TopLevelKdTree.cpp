@@ -334,7 +334,7 @@ bool TopLevelKdTree::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) 
   if (nodes_.empty()) return false;
   ctx.instanceMailbox.clear();
   float tfar = std::min(ray.tfar, hit.t);
-  const Vec3f inverse{1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z};
+  const Vec3f inverse = reciprocals(ray.direction);
   InstanceEntry enter(ray);
   return detail::traverseKdTree<false>(nodes_, bounds_, ray.origin, ray.direction, inverse,
                                        ray.tnear, tfar, ctx.nodeVisits,
@@ -355,7 +355,7 @@ bool TopLevelKdTree::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) 
 bool TopLevelKdTree::occluded(const Ray& ray, TraversalContext& ctx) const {
   if (nodes_.empty()) return false;
   ctx.instanceMailbox.clear();
-  const Vec3f inverse{1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z};
+  const Vec3f inverse = reciprocals(ray.direction);
   InstanceEntry enter(ray);
   return detail::traverseKdTree<true>(nodes_, bounds_, ray.origin, ray.direction, inverse,
                                       ray.tnear, ray.tfar, ctx.nodeVisits,

@@ -91,7 +91,7 @@ struct ObjectRay {
   ObjectRay(const Vec3f& origin, const Vec3f& direction, float tnear, float tfar_,
             std::uint32_t instance, std::uint32_t object)
       : wt(origin, direction, tnear),
-        inverseDirection(reciprocal(direction)),
+        inverseDirection(reciprocals(direction)),
         tfar(tfar_),
         instanceId(instance),
         objectId(object) {}
@@ -99,22 +99,10 @@ struct ObjectRay {
   ObjectRay(const Vec3d& origin, const Vec3d& direction, float tnear, float tfar_,
             std::uint32_t instance, std::uint32_t object)
       : wt(origin, direction, tnear),
-        inverseDirection(reciprocal(wt.direction)),
+        inverseDirection(reciprocals(wt.direction)),
         tfar(tfar_),
         instanceId(instance),
         objectId(object) {}
-
-  /// 1/d per component (+-inf for +-0), in one vector division where SSE is there: the same
-  /// bits as three scalar divisions (each lane is correctly rounded).
-  static Vec3f reciprocal(const Vec3f& d) {
-#if defined(__SSE2__)
-    alignas(16) float r[4];
-    _mm_store_ps(r, _mm_div_ps(_mm_set1_ps(1.0f), _mm_set_ps(1.0f, d.z, d.y, d.x)));
-    return {r[0], r[1], r[2]};
-#else
-    return {1.0f / d.x, 1.0f / d.y, 1.0f / d.z};
-#endif
-  }
 };
 
 /// Rays per packet in the packet queries (ObjectAccel::intersectPacket, TopLevelAccel and the

@@ -62,6 +62,19 @@ inline bool isTraceable(const Ray& ray) {
 #endif
 }
 
+/// 1/d per component (+-inf for +-0 components): the reciprocal direction of ray set-ups. One
+/// vector division where SSE is there, the same bits as three scalar divisions (each lane is
+/// correctly rounded) for a third of the divider's time.
+inline Vec3f reciprocals(const Vec3f& d) {
+#if defined(__SSE2__)
+  alignas(16) float r[4];
+  _mm_store_ps(r, _mm_div_ps(_mm_set1_ps(1.0f), _mm_set_ps(1.0f, d.z, d.y, d.x)));
+  return {r[0], r[1], r[2]};
+#else
+  return {1.0f / d.x, 1.0f / d.y, 1.0f / d.z};
+#endif
+}
+
 /// The closest hit along a ray.
 ///
 /// Ties: when two triangles are hit at exactly the same float t, the one with the smaller
