@@ -57,12 +57,6 @@ Acc reduceTriangles(std::size_t n, std::size_t grain, Fn&& perTriangle) {
       });
 }
 
-/// reduceTriangles into a TriangleSummary.
-template <class Fn>
-TriangleSummary summarise(std::size_t n, Fn&& perTriangle) {
-  return reduceTriangles<TriangleSummary>(n, 1024, perTriangle);
-}
-
 /// fn(begin, end) over blocks of [0, n), in parallel from kParallelTriangles items on.
 template <class Fn>
 void forEachBlock(std::size_t n, std::size_t grain, Fn&& fn) {
@@ -158,18 +152,31 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   const std::size_t n = mesh.triangleCount();
   // One primitive per non-degenerate triangle: degenerate ones can never be hit and would only
   // cost tests. They are marked by an empty box, then left out.
-  prims_.resize(n);
-  const TriangleSummary summary = summarise(n, [&](std::size_t i, TriangleSummary& acc) {
-    const TriangleVertices t = verticesOf(mesh, i);
-    const bool isDegenerate = degenerate(t.v0, t.v1, t.v2);
-    const Box3f box = boxOf(t);
-    prims_[i] = BvhPrim::make(isDegenerate ? Box3f{} : box, static_cast<std::uint32_t>(i));
-    if (isDegenerate) {
-      ++acc.degenerate;
-    } else {
-      acc.bounds.extend(box);
+  // The same pass gathers the bounds of the primitives' centroids, which the builder would
+  // otherwise gather in a pass of its own.
+  struct SahSummary {
+    std::size_t degenerate = 0;
+    BvhPrimBounds prims;
+    void merge(const SahSummary& o) {
+      degenerate += o.degenerate;
+      prims.bounds.extend(o.prims.bounds);
+      prims.centroids.extend(o.prims.centroids);
     }
-  });
+  };
+  prims_.resize(n);
+  const SahSummary summary =
+      reduceTriangles<SahSummary>(n, 1024, [&](std::size_t i, SahSummary& acc) {
+        const TriangleVertices t = verticesOf(mesh, i);
+        const bool isDegenerate = degenerate(t.v0, t.v1, t.v2);
+        const Box3f box = boxOf(t);
+        prims_[i] = BvhPrim::make(isDegenerate ? Box3f{} : box, static_cast<std::uint32_t>(i));
+        if (isDegenerate) {
+          ++acc.degenerate;
+        } else {
+          acc.prims.bounds.extend(box);
+          acc.prims.centroids.extend(box.lower + box.upper);
+        }
+      });
   if (summary.degenerate != 0) {
     std::erase_if(prims_, [](const BvhPrim& p) { return p.lower[0] > p.upper[0]; });
   }
@@ -183,7 +190,7 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   options.parallelThreshold = kParallelBuildRange;
   BvhBuildResult result;
   result.nodes.swap(nodes_);  // reuse the node memory of the previous build
-  buildBvh4(prims_, options, result);
+  buildBvh4(prims_, options, result, &summary.prims);
   nodes_.swap(result.nodes);
   // The builder reserves its worst case, one node per primitive; SAH trees with leaves of up to
   // four triangles use about a quarter of it (the BART kitchen flattened: 26.5k nodes for 110k
@@ -210,7 +217,7 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   // A static tree is never refitted: keep neither the topology nor the build scratch.
   std::vector<std::uint32_t>().swap(indices_);
   BvhPrimArray().swap(prims_);
-  bounds_ = summary.bounds;
+  bounds_ = summary.prims.bounds;
   stats_.degenerate = summary.degenerate;
   stats_.leaves = result.leaves;
   stats_.maxDepth = result.maxDepth;

@@ -218,11 +218,13 @@ struct RangeBounds {
 
 class Builder {
  public:
-  Builder(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out)
+  Builder(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out,
+          const BvhPrimBounds* known)
       : prims_(prims),
         options_(options),
         bins_(std::clamp(options.bins, 2, BvhBuildOptions::kMaxBins)),
-        out_(out) {}
+        out_(out),
+        known_(known) {}
 
   void build() {
     out_.leaves = 0;
@@ -233,7 +235,7 @@ class Builder {
       out_.nodes.clear();
       return;
     }
-    Range root = makeRange(0, prims_.size());
+    Range root = known_ ? knownRange(*known_) : makeRange(0, prims_.size());
     out_.bounds = root.bounds.box();
     // Every inner node has at least two children, except a root that is a single leaf, so
     // there are at most as many nodes as primitives.
@@ -276,6 +278,18 @@ class Builder {
       for (std::size_t i = begin; i < end; ++i) rb.add(prims_[i]);
     }
     return {begin, end, rb.bounds, rb.centroids};
+  }
+
+  /// The root range from the caller's bounds: what makeRange would gather (lane 3 zero, as
+  /// the primitives' loads leave it), without the pass over the primitives.
+  Range knownRange(const BvhPrimBounds& b) const {
+    const auto sse = [](const Box3f& box) {
+      SseBox out;
+      out.lower = _mm_setr_ps(box.lower.x, box.lower.y, box.lower.z, 0.0f);
+      out.upper = _mm_setr_ps(box.upper.x, box.upper.y, box.upper.z, 0.0f);
+      return out;
+    };
+    return {0, prims_.size(), sse(b.bounds), sse(b.centroids)};
   }
 
   /// Bins `r` on all axes (axis < 0) or on one.
@@ -607,13 +621,15 @@ class Builder {
   const BvhBuildOptions& options_;
   const int bins_;
   BvhBuildResult& out_;
+  const BvhPrimBounds* known_;
   std::atomic<std::uint32_t> nextNode_{0};
 };
 
 }  // namespace
 
-void buildBvh4(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out) {
-  Builder(prims, options, out).build();
+void buildBvh4(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out,
+               const BvhPrimBounds* known) {
+  Builder(prims, options, out, known).build();
 }
 
 namespace {

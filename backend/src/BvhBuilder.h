@@ -75,11 +75,22 @@ struct BvhBuildResult {
   double sahCost = -1.0;
 };
 
+/// Bounds of a build's primitive boxes and of their centroids (each as lower + upper, twice
+/// the centre), when the caller gathered them while making the primitives: the builder then
+/// skips its own pass over them. They must be exactly those of `prims` (min and max are exact,
+/// and lower + upper rounds as the builder's own sum).
+struct BvhPrimBounds {
+  Box3f bounds;     ///< union of the primitive boxes
+  Box3f centroids;  ///< box of lower + upper of every primitive
+};
+
 /// Builds a BVH4 over `prims` and reorders them so that every leaf's primitives are contiguous:
 /// a leaf slot (child, count) refers to prims[child, child + count). `out.nodes` keeps its
 /// capacity between builds, so per-frame rebuilds do not reallocate. Deterministic: the same
 /// input gives the same tree whatever the number of threads (only node numbering may differ).
-void buildBvh4(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out);
+/// `known`, when given, holds the bounds of `prims` (see BvhPrimBounds).
+void buildBvh4(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out,
+               const BvhPrimBounds* known = nullptr);
 
 /// SAH cost of a BVH4: the expected cost of a ray that hits the root box, counting
 /// `traversalCost` per node visited and `intersectionCost` per primitive tested, with the
