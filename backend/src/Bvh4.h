@@ -76,20 +76,21 @@ struct alignas(64) Bvh4Node {
   bool isInner(int s) const { return count[s] == 0 && child[s] != kInvalidId; }
 };
 
-/// An allocator whose value-less construct default-initialises: growing a vector of nodes that
-/// are about to be overwritten then costs no pass over memory (per-frame top-level rebuilds).
-template <class T>
-struct DefaultInitAllocator : std::allocator<T> {
+/// A std::allocator whose value-less construct (what vector::resize calls for new elements)
+/// is `Init::make(p)` instead of value-initialisation; constructions with arguments are as
+/// usual. For arrays a build sizes and then writes in full.
+template <class T, class Init>
+struct ResizeInitAllocator : std::allocator<T> {
   template <class U>
   struct rebind {
-    using other = DefaultInitAllocator<U>;
+    using other = ResizeInitAllocator<U, Init>;
   };
-  DefaultInitAllocator() = default;
+  ResizeInitAllocator() = default;
   template <class U>
-  explicit DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  explicit ResizeInitAllocator(const ResizeInitAllocator<U, Init>&) noexcept {}
   template <class U>
   void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
+    Init::make(p);
   }
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {
@@ -97,31 +98,34 @@ struct DefaultInitAllocator : std::allocator<T> {
   }
 };
 
-/// An allocator whose value-less construct leaves the element as the memory holds it, for
-/// arrays of trivially copyable, trivially destructible elements that are written before they
-/// are read (objects of such types begin their lifetime implicitly in the allocated storage).
-/// Unlike DefaultInitAllocator it also skips default member initialisers: the leaf triangles
-/// of a BVH (Vec3f zeroes its members) were zeroed on one thread before the parallel pass
-/// that writes them.
-template <class T>
-struct UninitializedAllocator : std::allocator<T> {
+/// Default-initialisation: growing a vector of nodes that are about to be overwritten then
+/// costs no pass over memory (per-frame top-level rebuilds).
+struct DefaultInit {
   template <class U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
-  UninitializedAllocator() = default;
+  static void make(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+};
+
+/// No initialisation at all, for trivially copyable, trivially destructible elements that are
+/// written before they are read (such objects begin their lifetime implicitly in allocated
+/// storage). Unlike DefaultInit it also skips default member initialisers: the leaf triangles
+/// of a BVH (Vec3f zeroes its members) were zeroed on one thread before the parallel pass that
+/// writes them.
+struct NoInit {
   template <class U>
-  explicit UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
-  template <class U>
-  void construct(U*) noexcept {
+  static void make(U*) noexcept {
     static_assert(std::is_trivially_copyable_v<U> && std::is_trivially_destructible_v<U>,
                   "only elements without construction or destruction may be left unwritten");
   }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
 };
+
+/// Vectors grown without zero-filling (see DefaultInit).
+template <class T>
+using DefaultInitAllocator = ResizeInitAllocator<T, DefaultInit>;
+/// Vectors grown without any initialisation (see NoInit).
+template <class T>
+using UninitializedAllocator = ResizeInitAllocator<T, NoInit>;
 
 /// The node array of a BVH4, root first.
 using Bvh4NodeArray = std::vector<Bvh4Node, DefaultInitAllocator<Bvh4Node>>;

@@ -145,7 +145,7 @@ class BvhAccel final : public ObjectAccel {
 
   AccelKind kind_;
   Bvh4NodeArray nodes_;
-  /// In leaf order; every build writes all of them (see UninitializedAllocator).
+  /// In leaf order; every build writes all of them (see NoInit).
   std::vector<TriangleVertices, UninitializedAllocator<TriangleVertices>> triangles_;
   std::vector<std::uint32_t> primIds_;  ///< mesh triangle index of each triangles_ entry
   std::vector<std::uint32_t> indices_;  ///< mesh indices at the last build (refit check)
