@@ -68,16 +68,12 @@ void forEachBlock(std::size_t n, std::size_t grain, Fn&& fn) {
                     [&](const tbb::blocked_range<std::size_t>& r) { fn(r.begin(), r.end()); });
 }
 
+/// fn(i) for every i in [0, n), in blocks as forEachBlock makes them.
 template <class Fn>
 void forEachIndex(std::size_t n, std::size_t grain, Fn&& fn) {
-  if (n < kParallelTriangles) {
-    for (std::size_t i = 0; i < n; ++i) fn(i);
-    return;
-  }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
-                    });
+  forEachBlock(n, grain, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i != end; ++i) fn(i);
+  });
 }
 
 TriangleVertices verticesOf(const TriangleMesh& mesh, std::size_t triangle) {
@@ -154,13 +150,11 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   // cost tests. They are marked by an empty box, then left out.
   // The same pass gathers the bounds of the primitives' centroids, which the builder would
   // otherwise gather in a pass of its own.
-  struct SahSummary {
-    std::size_t degenerate = 0;
-    BvhPrimBounds prims;
+  struct SahSummary : TriangleSummary {
+    Box3f centroids;
     void merge(const SahSummary& o) {
-      degenerate += o.degenerate;
-      prims.bounds.extend(o.prims.bounds);
-      prims.centroids.extend(o.prims.centroids);
+      TriangleSummary::merge(o);
+      centroids.extend(o.centroids);
     }
   };
   prims_.resize(n);
@@ -173,8 +167,8 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
         if (isDegenerate) {
           ++acc.degenerate;
         } else {
-          acc.prims.bounds.extend(box);
-          acc.prims.centroids.extend(box.lower + box.upper);
+          acc.bounds.extend(box);
+          acc.centroids.extend(box.lower + box.upper);
         }
       });
   if (summary.degenerate != 0) {
@@ -190,7 +184,8 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   options.parallelThreshold = kParallelBuildRange;
   BvhBuildResult result;
   result.nodes.swap(nodes_);  // reuse the node memory of the previous build
-  buildBvh4(prims_, options, result, &summary.prims);
+  const BvhPrimBounds primBounds{summary.bounds, summary.centroids};
+  buildBvh4(prims_, options, result, &primBounds);
   nodes_.swap(result.nodes);
   // The builder reserves its worst case, one node per primitive; SAH trees with leaves of up to
   // four triangles use about a quarter of it (the BART kitchen flattened: 26.5k nodes for 110k
@@ -217,7 +212,7 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   // A static tree is never refitted: keep neither the topology nor the build scratch.
   std::vector<std::uint32_t>().swap(indices_);
   BvhPrimArray().swap(prims_);
-  bounds_ = summary.prims.bounds;
+  bounds_ = summary.bounds;
   stats_.degenerate = summary.degenerate;
   stats_.leaves = result.leaves;
   stats_.maxDepth = result.maxDepth;

@@ -31,8 +31,7 @@ class MaterialRangeIndex {
     first_.resize(buckets);
     std::size_t k = 0;
     for (std::uint64_t b = 0; b < buckets; ++b) {
-      const std::uint64_t prim = b << shift_;
-      while (k + 1 < ranges.size() && ranges[k + 1].primBegin <= prim) ++k;
+      k = stepTo(ranges, k, b << shift_);
       first_[b] = static_cast<std::uint32_t>(k);
     }
   }
@@ -40,12 +39,17 @@ class MaterialRangeIndex {
   /// RenderScene::rangeContaining(ranges, primId) for the ranges this index was made from.
   std::size_t find(const Ranges& ranges, std::uint32_t primId) const {
     const std::size_t bucket = std::min<std::size_t>(primId >> shift_, first_.size() - 1);
-    std::size_t k = first_[bucket];
-    while (k + 1 < ranges.size() && ranges[k + 1].primBegin <= primId) ++k;
-    return k;
+    return stepTo(ranges, first_[bucket], primId);
   }
 
  private:
+  /// From range k (which starts at or before `prim`, or is the first), the last range that
+  /// starts at or before `prim`.
+  static std::size_t stepTo(const Ranges& ranges, std::size_t k, std::uint64_t prim) {
+    while (k + 1 < ranges.size() && ranges[k + 1].primBegin <= prim) ++k;
+    return k;
+  }
+
   std::vector<std::uint32_t> first_;
   unsigned shift_ = 0;
 };
