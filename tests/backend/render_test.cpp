@@ -791,6 +791,8 @@ BOOST_AUTO_TEST_CASE(point_light_terms_match_the_scalar_shading_bit_for_bit) {
   box.specular = {0.5f, 0.4f, 0.3f};
   box.shine = 97.43f;
   ts.add(makeBox({-1, 0, -1}, {1, 1.5f, 1}), box);
+  // Normals off the axes, so that every product of a dot product counts.
+  ts.add(makeSphere({2.0f, 0.8f, 1.5f}, 0.8f, 12, 24), box);
   ts.scene.commit();
   ts.rs.ambient = {0.1f, 0.1f, 0.1f};
   ts.rs.pointLights.push_back({{0, -5, 0}, {1, 1, 1}, {}});  // below the floor

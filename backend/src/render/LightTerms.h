@@ -45,6 +45,43 @@ struct LightGroupTerms {
   unsigned added = 0;    ///< bit j: light j adds a non-black term (a subset of present)
 };
 
+/// One point light as plain numbers, for the sums over surface points (PointLightSums8Fn).
+struct PlainPointLight {
+  float position[3];
+  float color[3];  ///< before any attenuation
+};
+
+/// W surface points, one per lane, as the sums over surface points read them: the fields of
+/// LightTermsPoint by lane, and the colour each point has so far.
+template <std::size_t W>
+struct SurfacePointLanes {
+  /// A vector per lane: row a holds coordinate (or channel) a of every lane.
+  using Rows = float[3][W];
+  alignas(32) Rows position;             ///< hit points
+  alignas(32) Rows ns, ng;               ///< shading and geometric normals, facing the ray
+  alignas(32) Rows v;                    ///< unit view vectors
+  alignas(32) Rows diffuse;              ///< diffuse colours after texturing
+  alignas(32) Rows specular;             ///< Material::specular
+  alignas(32) Rows absorbingDiffuse;     ///< HighlightLimits::absorbingDiffuse
+  alignas(32) float shine[W];            ///< Material::shine
+  alignas(32) float cutoff[W];           ///< HighlightLimits::cutoff
+  alignas(32) float negligibleBelow[W];  ///< HighlightLimits::negligibleBelow
+  /// In: the colour so far (the ambient term); out: plus every point light's term.
+  alignas(32) Rows color;
+  unsigned lit = 0;         ///< bit j: the material of lane j is lit
+  unsigned reflective = 0;  ///< bit j: the material of lane j is reflective
+};
+
+/// Adds to points.red/green/blue every one of `count` point lights' unshadowed terms, light by
+/// light in order, where a light adds a non-black term: for each lane, the colour OpenGL mode
+/// sums through the light terms of LightTermsPoint, bit for bit. None of the lights attenuates.
+using PointLightSums8Fn = void (*)(const PlainPointLight* lights, std::size_t count,
+                                   SurfacePointLanes<8>& points);
+
+/// The AVX2 kernel of PointLightSums8Fn, or null when the build has none. Call it only on a CPU
+/// that runs AVX2.
+PointLightSums8Fn pointLightSumsAvx2();
+
 /// Terms of the first `count` lights of an 8-light group without attenuation at point `p`.
 using PointLightTerms8Fn = void (*)(const PointLightGroup<8>& group, std::size_t count,
                                     const LightTermsPoint& p, LightGroupTerms<8>& out);

@@ -1,7 +1,8 @@
 // The point-light terms eight lights at a time with AVX (pointLightTermsWith over 256-bit
-// lanes). Compiled with -mavx2 -ffp-contract=off (see backend/CMakeLists.txt): every lane
-// rounds exactly as the baseline's four-light terms do. Only plain data and this file's own
-// functions are used here (see LightTerms.h for why).
+// lanes), and their sums at eight surface points at a time (pointLightSumsWith). Compiled with
+// -mavx2 -ffp-contract=off (see backend/CMakeLists.txt): every lane rounds exactly as the
+// baseline's four-light terms do. Only plain data and this file's own functions are used here (see
+// LightTerms.h for why).
 #include "LightTerms.h"
 
 #if defined(__AVX2__)
@@ -30,6 +31,12 @@ struct Lanes8 {
     __m256 v;
   };
   static Mask allLanes(bool on) { return {_mm256_castsi256_ps(_mm256_set1_epi32(on ? -1 : 0))}; }
+  /// Lane j true when bit j of `b` is set.
+  static Mask fromBits(unsigned b) {
+    const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256i set = _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(b)), lane);
+    return {_mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lane))};
+  }
 };
 Lanes8 operator+(Lanes8 a, Lanes8 b) {
   return {_mm256_add_ps(a.v, b.v)};
@@ -101,16 +108,30 @@ void pointLightTerms8(const PointLightGroup<8>& group, std::size_t count, const 
   pointLightTermsWith<Lanes8>(group, count, p, none, out);
 }
 
+void pointLightSums8(const PlainPointLight* lights, std::size_t count,
+                     SurfacePointLanes<8>& points) {
+  // Only lights without attenuation are handed here.
+  const auto none = [](std::size_t, const Lanes8&, Lanes8&, Lanes8&, Lanes8&) {};
+  pointLightSumsWith<Lanes8>(lights, count, points, none);
+}
+
 }  // namespace
 
 PointLightTerms8Fn pointLightTermsAvx2() {
   return &pointLightTerms8;
 }
 
+PointLightSums8Fn pointLightSumsAvx2() {
+  return &pointLightSums8;
+}
+
 }  // namespace tg::detail
 #else
 namespace tg::detail {
 PointLightTerms8Fn pointLightTermsAvx2() {
+  return nullptr;
+}
+PointLightSums8Fn pointLightSumsAvx2() {
   return nullptr;
 }
 }  // namespace tg::detail

@@ -155,6 +155,9 @@ TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Ca
     if (shader.shadesByWave()) {
       shader.shadeWhittedTile(scratch.rays.data(), scratch.hits.data(), count, ctx, result.counters,
                               scratch.wave, scratch.samples.data());
+    } else if (shader.shadesOpenGlTiles()) {
+      shader.shadeOpenGlTile(scratch.rays.data(), scratch.hits.data(), count, result.counters,
+                             scratch.samples.data());
     } else {
       // Made in place: a returned sample copied in was read back before its stores completed.
       for (std::size_t k = 0; k < count; ++k)

@@ -122,8 +122,15 @@ class Shader {
   /// in a packet.
   PixelSample shadePrimaryHit(const Ray& ray, const Hit& hit, TraversalContext& ctx,
                               TileCounters& counters) const;
-  /// True when shadeWhittedTile applies (Whitted mode); other modes shade pixel by pixel.
+  /// True when shadeWhittedTile applies (Whitted mode).
   bool shadesByWave() const { return whitted_; }
+  /// True when shadeOpenGlTile applies (OpenGL mode); the debug modes shade pixel by pixel.
+  bool shadesOpenGlTiles() const { return settings_.mode == RenderMode::OpenGL; }
+  /// Shades the `n` primary rays of a tile in OpenGL mode, whose hits were traced already,
+  /// several pixels at a time: the point lights' terms are summed with the pixels in SIMD lanes.
+  /// out[k] equals shadePrimaryHit(rays[k], hits[k]) bit for bit.
+  void shadeOpenGlTile(const Ray* rays, const Hit* hits, std::size_t n, TileCounters& counters,
+                       PixelSample* out) const;
   /// Shades the `n` primary rays of a tile, whose hits were traced already, bounce depth by
   /// bounce depth: the rays of one depth (reflection, refraction, and the shadow rays towards
   /// each light) go to the scene together as packets of neighbouring rays. out[k] equals
@@ -155,6 +162,10 @@ class Shader {
   /// row j of rgb), computed several lights at a time.
   template <typename Fn>
   void forEachPointLightGroup(const SurfaceShading& sh, Fn&& fn) const;
+  /// shadeOpenGlTile, W pixels at a time; sums(lanes) adds the point lights' terms.
+  template <std::size_t W, typename Sums>
+  void shadeOpenGlLanes(const Ray* rays, const Hit* hits, std::size_t n, TileCounters& counters,
+                        PixelSample* out, Sums&& sums) const;
   /// Number of lights of the scene (point, directional and spot).
   std::size_t lightCount() const;
   /// sh.color plus the reflected and refracted light (Whitted mode).
@@ -191,6 +202,10 @@ class Shader {
   std::vector<PointLightGroup<8>> pointGroups8_;
   /// The eight-light terms of a wider instruction set, or null.
   PointLightTerms8Fn pointTerms8_ = nullptr;
+  /// rs_.pointLights as plain numbers, for the sums over pixels.
+  std::vector<PlainPointLight> plainLights_;
+  /// The sums over eight pixels of a wider instruction set (where pointTerms8_ is set), or null.
+  PointLightSums8Fn pointSums8_ = nullptr;
 };
 
 }  // namespace tg::detail

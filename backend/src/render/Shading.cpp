@@ -1,7 +1,9 @@
 // Whitted and OpenGL-like shading and the debug modes (see Shader.h).
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <new>
 #include <optional>
 
 #if defined(__SSE2__)
@@ -130,6 +132,12 @@ struct Lanes4 {
     __m128 v;
   };
   static Mask allLanes(bool on) { return {_mm_castsi128_ps(_mm_set1_epi32(on ? -1 : 0))}; }
+  /// Lane j true when bit j of `b` is set.
+  static Mask fromBits(unsigned b) {
+    const __m128i lane = _mm_setr_epi32(1, 2, 4, 8);
+    const __m128i set = _mm_and_si128(_mm_set1_epi32(static_cast<int>(b)), lane);
+    return {_mm_castsi128_ps(_mm_cmpeq_epi32(set, lane))};
+  }
 };
 Lanes4 operator+(Lanes4 a, Lanes4 b) {
   return {_mm_add_ps(a.v, b.v)};
@@ -202,6 +210,7 @@ struct Lanes4 {
     unsigned v;
   };
   static Mask allLanes(bool on) { return {on ? 15u : 0u}; }
+  static Mask fromBits(unsigned b) { return {b & 15u}; }
 };
 template <typename F>
 Lanes4 laneWise(F&& f) {
@@ -324,6 +333,52 @@ void pointLightTerms4(const PointLightGroup<4>& q, const PointLight* lights, std
   pointLightTermsWith<Lanes4>(q, count, p, attenuate, out);
 }
 
+/// Lane j of `rows` set to `value`.
+template <std::size_t W>
+void setLane(float (&rows)[3][W], std::size_t j, const Vec3f& value) {
+  rows[0][j] = value.x;
+  rows[1][j] = value.y;
+  rows[2][j] = value.z;
+}
+
+/// Lane j of `p` from the surface point being shaded in `sh`, with its colour so far.
+template <std::size_t W>
+void setLane(SurfacePointLanes<W>& p, std::size_t j, const SurfaceShading& sh) {
+  const Material& m = sh.material;
+  setLane(p.position, j, sh.sd.position);
+  setLane(p.ns, j, sh.ns);
+  setLane(p.ng, j, sh.ng);
+  setLane(p.v, j, sh.v);
+  setLane(p.diffuse, j, sh.diffuse);
+  setLane(p.specular, j, m.specular);
+  setLane(p.absorbingDiffuse, j, sh.highlight.absorbingDiffuse);
+  setLane(p.color, j, sh.color);
+  p.shine[j] = m.shine;
+  p.cutoff[j] = sh.highlight.cutoff;
+  p.negligibleBelow[j] = sh.highlight.negligibleBelow;
+  if (m.lit()) p.lit |= 1u << j;
+  if (m.reflective()) p.reflective |= 1u << j;
+}
+
+/// The sums of pointLightSumsWith over four pixels, with the lights' distance attenuation
+/// applied lane by lane as pointLightTerms4 applies it.
+void pointLightSums4(const std::vector<PointLight>& lights, const PlainPointLight* plain,
+                     SurfacePointLanes<4>& p) {
+  const auto attenuate = [&](std::size_t i, const Lanes4& distance, Lanes4& cr, Lanes4& cg,
+                             Lanes4& cb) {
+    const PointLight& l = lights[i];
+    if (l.attenuation.none()) return;
+    float d[4];
+    Lanes4::store(distance, d);
+    Vec3f c[4];
+    for (std::size_t j = 0; j < 4; ++j) c[j] = l.color * l.attenuation.factor(d[j]);
+    cr = Lanes4::fromScalars([&](std::size_t j) { return c[j].x; });
+    cg = Lanes4::fromScalars([&](std::size_t j) { return c[j].y; });
+    cb = Lanes4::fromScalars([&](std::size_t j) { return c[j].z; });
+  };
+  pointLightSumsWith<Lanes4>(plain, lights.size(), p, attenuate);
+}
+
 /// Colours of the `classes` mode.
 Vec3f classColor(DynamicsClass c) {
   switch (c) {
@@ -373,10 +428,16 @@ Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
                                       [](const PointLight& l) { return !l.attenuation.none(); });
   if (activeSimdIsa() != SimdIsa::Portable && lights.size() > 4 && !attenuated)
     pointTerms8_ = pointLightTermsAvx2();
-  if (pointTerms8_ != nullptr)
+  if (pointTerms8_ != nullptr) {
     groupLights(lights, pointGroups8_);
-  else
+    pointSums8_ = pointLightSumsAvx2();
+  } else {
     groupLights(lights, pointGroups4_);
+  }
+  plainLights_.reserve(lights.size());
+  for (const PointLight& l : lights)
+    plainLights_.push_back(
+        {{l.position.x, l.position.y, l.position.z}, {l.color.x, l.color.y, l.color.z}});
 }
 
 template <typename Fn>
@@ -425,6 +486,69 @@ PixelSample Shader::shadePrimaryHit(const Ray& ray, const Hit& hit, TraversalCon
   s.normal = sd.shadingNormal;
   s.color = debugMode ? debugColor(ray, hit, sd) : shadeHit(ray, hit, sd, 0, 1.0f, ctx, counters);
   return s;
+}
+
+void Shader::shadeOpenGlTile(const Ray* rays, const Hit* hits, std::size_t n,
+                             TileCounters& counters, PixelSample* out) const {
+  if (pointSums8_ != nullptr) {
+    shadeOpenGlLanes<8>(rays, hits, n, counters, out, [&](SurfacePointLanes<8>& p) {
+      pointSums8_(plainLights_.data(), plainLights_.size(), p);
+    });
+  } else {
+    shadeOpenGlLanes<4>(rays, hits, n, counters, out, [&](SurfacePointLanes<4>& p) {
+      pointLightSums4(rs_.pointLights, plainLights_.data(), p);
+    });
+  }
+}
+
+template <std::size_t W, typename Sums>
+void Shader::shadeOpenGlLanes(const Ray* rays, const Hit* hits, std::size_t n,
+                              TileCounters& counters, PixelSample* out, Sums&& sums) const {
+  const bool otherLights = !rs_.directionalLights.empty() || !rs_.spotLights.empty();
+  counters.traced.primary += n;
+  // Lanes without a hit keep what an earlier pixel left: they add no light (their bit of `lit`
+  // is clear) and nobody reads them. Zeroed once, not per group of W.
+  SurfacePointLanes<W> lanes{};
+  std::array<Scene::SurfaceData, W> sds;
+  std::array<std::optional<SurfaceShading>, W> shading;  // kept for the other lights only
+  for (std::size_t first = 0; first < n; first += W) {
+    const std::size_t count = std::min(W, n - first);
+    lanes.lit = 0;
+    lanes.reflective = 0;
+    unsigned shaded = 0;
+    for (std::size_t j = 0; j < count; ++j) {
+      const std::size_t k = first + j;
+      PixelSample& s = *::new (static_cast<void*>(&out[k])) PixelSample();
+      if (!hits[k].valid()) {
+        s.color = rs_.background;
+        continue;
+      }
+      s.depth = hits[k].t;
+      s.instanceId = hits[k].instanceId;
+      s.primId = hits[k].primId;
+      // Made in place: a returned value copied in was read back before its stores completed.
+      const Scene::SurfaceData& sd = *::new (static_cast<void*>(&sds[j]))
+                                         Scene::SurfaceData(scene_.surfaceAt(rays[k], hits[k]));
+      s.normal = sd.shadingNormal;
+      if (otherLights)
+        setLane(lanes, j, shading[j].emplace(prepare(rays[k], hits[k], sd)));
+      else
+        setLane(lanes, j, prepare(rays[k], hits[k], sd));
+      shaded |= 1u << j;
+    }
+    if (shaded == 0) continue;
+    sums(lanes);
+    for (unsigned left = shaded; left != 0; left &= left - 1) {
+      const auto j = static_cast<std::size_t>(std::countr_zero(left));
+      Vec3f color{lanes.color[0][j], lanes.color[1][j], lanes.color[2][j]};
+      if (otherLights)
+        forEachOtherLight(rs_, sds[j].position, [&](const LightSample& light, std::size_t) {
+          if (const std::optional<Vec3f> local = otherLightTerm(*shading[j], light))
+            color += *local;
+        });
+      out[first + j].color = color;
+    }
+  }
 }
 
 Vec3f Shader::trace(const Ray& ray, int depth, float weight, TraversalContext& ctx,
