@@ -71,6 +71,9 @@ struct Scene::Impl {
     std::optional<TriangleMesh> pending;
     ObjectUsage usage = ObjectUsage::Static;
     std::unique_ptr<ObjectAccel> accel;
+    /// Per triangle of `committed`: texture-coordinate area per object-space area (empty
+    /// without texture coordinates); see uvAreaPerWorldArea.
+    std::vector<float> uvPerArea;
     std::size_t instanceRefs = 0;
     bool alive = true;
     bool dirty = true;
@@ -109,6 +112,24 @@ struct Scene::Impl {
   /// as the instance id of a hit is.
   const Affine3d& committedWorldToObject(std::uint32_t id) const {
     return records[recordOfInstance.empty() ? id : recordOfInstance[id]].worldToObjectD;
+  }
+  /// Fills obj.uvPerArea from obj.committed. In float: it only chooses mip levels, and it
+  /// runs at every commit of a textured mesh.
+  static void fillUvPerArea(Object& obj) {
+    const TriangleMesh& mesh = obj.committed;
+    obj.uvPerArea.clear();
+    if (mesh.uvs.empty()) return;
+    obj.uvPerArea.resize(mesh.triangleCount());
+    for (std::size_t t = 0; t < obj.uvPerArea.size(); ++t) {
+      const std::uint32_t i0 = mesh.indices[3 * t], i1 = mesh.indices[3 * t + 1],
+                          i2 = mesh.indices[3 * t + 2];
+      const Vec2f &t0 = mesh.uvs[i0], &t1 = mesh.uvs[i1], &t2 = mesh.uvs[i2];
+      const float uvArea = std::abs((t1.u - t0.u) * (t2.v - t0.v) - (t2.u - t0.u) * (t1.v - t0.v));
+      const Vec3f& p0 = mesh.positions[i0];
+      const float area = length(cross(mesh.positions[i1] - p0, mesh.positions[i2] - p0));
+      const float ratio = uvArea / area;
+      obj.uvPerArea[t] = std::isfinite(ratio) && area > 0.0f ? ratio : 0.0f;
+    }
   }
   static void checkMesh(const TriangleMesh& mesh, const char* call) {
     const std::string problem = mesh.validate();
@@ -286,6 +307,7 @@ CommitStats Scene::commit() {
   tbb::parallel_for(std::size_t(0), dirty.size(), [&](std::size_t k) {
     Impl::Object& obj = s.objects[dirty[k]];
     obj.dirty = false;
+    Impl::fillUvPerArea(obj);
     // A deforming object keeps its tree while only its points moved and the refitted boxes are
     // still nearly as good as a fresh build's; refit() itself refuses a changed topology.
     if (obj.usage == ObjectUsage::Deforming && obj.built && obj.accel->refit(obj.committed)) {
@@ -584,6 +606,21 @@ Scene::SurfaceData Scene::surfaceAt(const Ray& ray, const Hit& hit) const {
     sd.hasUv = true;
   }
   return sd;
+}
+
+float Scene::uvAreaPerWorldArea(const Hit& hit) const {
+  if (!hit.valid()) return 0.0f;
+  const std::vector<float>& perTriangle = impl_->objects[hit.objectId].uvPerArea;
+  if (perTriangle.empty()) return 0.0f;
+  const float objectRatio = perTriangle[hit.primId];
+  // Areas grow from object to world space by |det L|^(2/3) for L = M^-1, exactly so for rigid
+  // motions and uniform scales (and as a mean over directions for non-uniform ones).
+  const Affine3d& m = impl_->committedWorldToObject(hit.instanceId);
+  const double det = m.m[0][0] * (m.m[1][1] * m.m[2][2] - m.m[1][2] * m.m[2][1]) -
+                     m.m[0][1] * (m.m[1][0] * m.m[2][2] - m.m[1][2] * m.m[2][0]) +
+                     m.m[0][2] * (m.m[1][0] * m.m[2][1] - m.m[1][1] * m.m[2][0]);
+  if (det == 1.0) return objectRatio;
+  return static_cast<float>(static_cast<double>(objectRatio) * std::cbrt(det * det));
 }
 
 }  // namespace tg

@@ -36,7 +36,7 @@ std::variant<RenderOptions, int> parseRenderOptions(int argc, char** argv) {
   CLI::App app{
       "tg-render: renders frames of a scene (BART .aff/.nff, .x3d, glTF/OBJ/PLY via "
       "Assimp) or, without SCENE, the built-in demo"};
-  std::string scene, size, frames, mode = "whitted", aovs, accel = "bvh";
+  std::string scene, size, frames, mode = "whitted", aovs, accel = "bvh", filter = "bilinear";
   int frame = -1;
   double time = 0.0;
   app.add_option("SCENE", scene, "scene file; omitted: the built-in demo scene");
@@ -54,6 +54,9 @@ std::variant<RenderOptions, int> parseRenderOptions(int argc, char** argv) {
       ->check(CLI::Range(0, 64));
   app.add_option("--accel", accel, "bvh|kd: the BVH engine (default) or the paper's kd-trees");
   app.add_option("--aov", aovs, "comma-separated AOVs: depth,normal,instance,prim");
+  app.add_option("--texture-filter", filter,
+                 "nearest|bilinear|trilinear: texture lookups; trilinear mip-maps by each "
+                 "primary ray's footprint (default bilinear)");
   app.add_option("--stats", o.statsFile, "write per-frame statistics as JSON to FILE");
   app.add_option("--threads", o.threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
@@ -88,6 +91,14 @@ std::variant<RenderOptions, int> parseRenderOptions(int argc, char** argv) {
   if (!m) return usage("unknown --mode '" + mode + "'");
   if (!parseEngine(accel, o.engine)) return usage("unknown --accel '" + accel + "' (bvh or kd)");
   o.mode = *m;
+  if (filter == "nearest")
+    o.textureFilter = TextureFilter::Nearest;
+  else if (filter == "bilinear")
+    o.textureFilter = TextureFilter::Bilinear;
+  else if (filter == "trilinear")
+    o.textureFilter = TextureFilter::Trilinear;
+  else
+    return usage("unknown --texture-filter '" + filter + "' (nearest, bilinear or trilinear)");
   std::stringstream list(aovs);
   for (std::string item; std::getline(list, item, ',');) {
     if (item == "depth")

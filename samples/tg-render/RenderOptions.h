@@ -33,7 +33,8 @@ struct RenderOptions {
   double fps = 30.0;                          ///< frame rate for scenes without their own range
   RenderMode mode = RenderMode::Whitted;
   int depth = 5;
-  Engine engine = Engine::Bvh;  ///< --accel kd|bvh
+  TextureFilter textureFilter = TextureFilter::Bilinear;  ///< --texture-filter
+  Engine engine = Engine::Bvh;                            ///< --accel kd|bvh
   AovSelection aovs;
   std::string statsFile;
   int threads = 0;  ///< 0: all cores

@@ -2,7 +2,8 @@
 //
 //   tg-render [SCENE] [-o OUT.png] [--size WxH] [--frame N | --frames A:B | --time T]
 //             [--mode opengl|whitted|normals|classes|instances] [--depth D]
-//             [--aov depth,normal,instance,prim] [--stats FILE.json] [--threads N]
+//             [--aov depth,normal,instance,prim] [--texture-filter nearest|bilinear|trilinear]
+//             [--stats FILE.json] [--threads N]
 //             [--video OUT.mp4] [--quiet]
 //
 // Exit codes: 0 success, 1 bad input (the message names the file), 2 bad usage.
@@ -73,6 +74,7 @@ int run(const RenderOptions& o) {
   RenderSettings settings;
   settings.mode = o.mode;
   settings.maxDepth = o.depth;
+  settings.textureFilter = o.textureFilter;
   settings.aovs = o.aovs.any();
   SceneRenderer renderer(graph, settings);
   renderer.setLook(source.look);

@@ -893,6 +893,8 @@ BOOST_AUTO_TEST_CASE(threads_tiles_and_packets_give_bit_identical_images) {
   for (RenderMode mode : {RenderMode::Whitted, RenderMode::OpenGL, RenderMode::Normals,
                           RenderMode::Classes, RenderMode::Instances}) {
     RenderSettings s = settingsFor(mode);
+    // Whitted mode through the mip-mapped lookups, the other modes through bilinear ones.
+    if (mode == RenderMode::Whitted) s.textureFilter = TextureFilter::Trilinear;
     std::vector<Frame> frames;
     std::vector<RenderStats> stats;
     for (int threads : {1, 2, 1, 2}) {
@@ -1181,6 +1183,95 @@ BOOST_AUTO_TEST_CASE(texture_sampling_is_bit_identical_to_the_fmod_reference) {
         }
     BOOST_TEST(checked > 100000u);
     BOOST_TEST(differing == 0u, tex.name());
+  }
+}
+
+BOOST_AUTO_TEST_CASE(mip_levels_are_box_means_and_trilinear_blends_them) {
+  // Red left half, blue right half, one green texel in the corner.
+  Image img(4, 4, 3);
+  for (std::uint32_t y = 0; y < 4; ++y)
+    for (std::uint32_t x = 0; x < 4; ++x) img.setRgb(x, y, x < 2 ? Vec3f{1, 0, 0} : Vec3f{0, 0, 1});
+  img.setRgb(0, 0, {0, 1, 0});
+  const Texture tex(std::move(img), "halves");
+  BOOST_TEST(tex.levelCount() == 3u);
+  BOOST_TEST((tex.mipTexel(1, 0, 0) == Vec3f{0.75f, 0.25f, 0.0f}));
+  BOOST_TEST((tex.mipTexel(1, 0, 1) == Vec3f{1, 0, 0}));
+  BOOST_TEST((tex.mipTexel(1, 1, 0) == Vec3f{0, 0, 1}));
+  const Vec3f mean{0.4375f, 0.0625f, 0.5f};  // of level 1, and so of the image
+  BOOST_TEST((tex.mipTexel(2, 0, 0) == mean));
+  BOOST_TEST((tex.mipTexel(2, 5, -3) == mean));  // wraps like texel()
+  BOOST_CHECK_THROW(tex.mipTexel(0, 0, 0), Error);
+  BOOST_CHECK_THROW(tex.mipTexel(3, 0, 0), Error);
+  const auto same = [](const Vec3f& a, const Vec3f& b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+  };
+  for (const Vec2f uv : {Vec2f{0.1f, 0.2f}, Vec2f{0.37f, 0.81f}, Vec2f{-2.6f, 7.45f}}) {
+    // No footprint, or one under a texel: the full image, exactly as Bilinear reads it.
+    for (const float lod : {0.0f, -3.0f, -kInfinity, std::numeric_limits<float>::quiet_NaN()})
+      BOOST_TEST(same(tex.sample(uv, TextureFilter::Trilinear, lod),
+                      tex.sample(uv, TextureFilter::Bilinear)));
+    // Beyond the last level: its one texel.
+    BOOST_TEST(same(tex.sample(uv, TextureFilter::Trilinear, 40.0f), mean));
+    BOOST_TEST(same(tex.sample(uv, TextureFilter::Trilinear, kInfinity), mean));
+    // The other filters ignore the footprint.
+    BOOST_TEST(same(tex.sample(uv, TextureFilter::Bilinear, 1.5f),
+                    tex.sample(uv, TextureFilter::Bilinear)));
+  }
+  // (0.25, 0.75) is the centre of level 1's texel (0, 1): red there, halfway to the mean at 1.5.
+  BOOST_TEST(same(tex.sample({0.25f, 0.75f}, TextureFilter::Trilinear, 1.0f), Vec3f{1, 0, 0}));
+  BOOST_TEST(same(tex.sample({0.25f, 0.75f}, TextureFilter::Trilinear, 1.5f),
+                  Vec3f{0.71875f, 0.03125f, 0.25f}));
+}
+
+BOOST_AUTO_TEST_CASE(trilinear_filtering_averages_distant_texels_and_keeps_close_ones) {
+  // A floor with a one-texel checker repeated 20 times over 400 units, seen from just above
+  // it towards the horizon: far away the checker is far below a pixel and bilinear lookups
+  // alias, while mip-mapped ones converge on its grey; near the camera a texel spans
+  // several pixels and both filters read the full image alike.
+  TestScene ts;
+  Image checker(64, 64, 3);
+  for (std::uint32_t y = 0; y < 64; ++y)
+    for (std::uint32_t x = 0; x < 64; ++x)
+      checker.setRgb(x, y, ((x + y) % 2) ? Vec3f{1, 1, 1} : Vec3f{0, 0, 0});
+  ts.rs.textures.push_back(std::make_shared<const Texture>(std::move(checker), "checker"));
+  Material floor = diffuseMaterial({1, 1, 1});
+  floor.texture = 0;
+  floor.textureMode = TextureMode::Replace;
+  floor.ambient = {1, 1, 1};
+  TriangleMesh mesh = makeQuad({-200, 0, 200}, {400, 0, 0}, {0, 0, -400});
+  for (Vec2f& uv : mesh.uvs) uv = {uv.u * 20.0f, uv.v * 20.0f};
+  ts.add(std::move(mesh), floor);
+  ts.scene.commit();
+  ts.rs.ambient = {1, 1, 1};  // colour = texel: no lights
+  const std::uint32_t w = 64, h = 48;
+  const Camera cam = Camera::lookAt({0, 1, 0}, {0, 0.6f, -10}, {0, 1, 0}, 60.0f, w, h);
+  RenderSettings bilinear = settingsFor(RenderMode::OpenGL), trilinear = bilinear;
+  trilinear.textureFilter = TextureFilter::Trilinear;
+  const Frame b = render(ts, cam, bilinear), t = render(ts, cam, trilinear);
+  // Mean distance from mid grey over the floor's farthest rows (just below the horizon).
+  const auto spread = [&](const Frame& f, std::uint32_t y0, std::uint32_t y1) {
+    double sum = 0.0;
+    for (std::uint32_t y = y0; y < y1; ++y)
+      for (std::uint32_t x = 0; x < w; ++x)
+        sum += std::abs(static_cast<double>(f.beauty.at(x, y, 0)) - 0.5);
+    return sum / static_cast<double>(w * (y1 - y0));
+  };
+  // The view dips 0.4 / 10 below level: the horizon lies at row 24 - 24 * 0.04 / tan(30 deg)
+  // = 22.3, and rows 23 to 30 show the floor from 200 down to 25 units away.
+  BOOST_TEST(spread(b, 23, 31) > 0.1);
+  BOOST_TEST(spread(t, 23, 31) < 0.01);
+  // The bottom row: texels larger than pixels, the same bits.
+  for (std::uint32_t x = 0; x < w; ++x) {
+    const Vec3f pb = b.beauty.rgb(x, h - 1), pt = t.beauty.rgb(x, h - 1);
+    BOOST_TEST(std::memcmp(&pb, &pt, sizeof pb) == 0);
+  }
+  // Packets and single rays, the wave and the recursive Whitted paths: the same footprints.
+  for (const RenderMode mode : {RenderMode::OpenGL, RenderMode::Whitted}) {
+    RenderSettings s = trilinear;
+    s.mode = mode;
+    const Frame packets = render(ts, cam, s);
+    s.packets = false;
+    BOOST_TEST(render(ts, cam, s).beauty.bitwiseEqual(packets.beauty));
   }
 }
 

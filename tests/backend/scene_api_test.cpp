@@ -265,3 +265,40 @@ BOOST_AUTO_TEST_CASE(occluder_hints_answer_repeats_and_never_cross_scenes_or_com
       BOOST_TEST(static_cast<bool>(packets[i]) == a.occluded(rays[i]), "ray " << i);
   }
 }
+
+BOOST_AUTO_TEST_CASE(uv_area_per_world_area_follows_the_mesh_and_the_instance) {
+  // A 2 x 2 square mapped onto the unit uv square: 1/4 of uv area per unit of area, 1/36 under
+  // a uniform scale by 3, 1/16 under a scale of (2, 4, 1) (area scale 8, taken as 8^(2/3) = 4),
+  // and nothing for a mesh without uvs.
+  Scene scene;
+  TriangleMesh square;
+  square.positions = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}};
+  square.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  square.indices = {0, 1, 2, 0, 2, 3};
+  TriangleMesh bare = square;
+  bare.uvs.clear();
+  const ObjectId textured = scene.createObject(square), plain = scene.createObject(bare);
+  const Affine3d at = Affine3d::translation({0, 0, -10});
+  const InstanceId unit = scene.createInstance(textured, at);
+  const InstanceId scaled = scene.createInstance(
+      textured, Affine3d::translation({10, 0, -10}) * Affine3d::scaling({3, 3, 3}));
+  const InstanceId stretched = scene.createInstance(
+      textured, Affine3d::translation({20, 0, -10}) * Affine3d::scaling({2, 4, 1}));
+  const InstanceId untextured = scene.createInstance(plain, Affine3d::translation({30, 0, -10}));
+  scene.commit();
+  const auto ratioAt = [&](float x, float y, InstanceId expected) {
+    Hit hit;
+    Ray ray;
+    ray.origin = {x, y, 0};
+    ray.direction = {0, 0, -1};
+    BOOST_TEST_REQUIRE(scene.intersect(ray, hit));
+    BOOST_TEST_REQUIRE(hit.instanceId == expected);
+    return scene.uvAreaPerWorldArea(hit);
+  };
+  BOOST_TEST(ratioAt(1.5f, 0.5f, unit) == 0.25f);
+  BOOST_TEST(ratioAt(0.5f, 1.5f, unit) == 0.25f);  // the other triangle
+  BOOST_TEST(std::abs(ratioAt(11.0f, 1.0f, scaled) - 1.0f / 36.0f) < 1e-7f);
+  BOOST_TEST(std::abs(ratioAt(21.0f, 1.0f, stretched) - 1.0f / 16.0f) < 1e-7f);
+  BOOST_TEST(ratioAt(31.0f, 1.0f, untextured) == 0.0f);
+  BOOST_TEST(scene.uvAreaPerWorldArea(Hit{}) == 0.0f);
+}

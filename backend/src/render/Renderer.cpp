@@ -215,7 +215,7 @@ RenderStats Renderer::render(const RenderScene& scene, const Camera& camera, Fra
     frame.primId = IdImage();
   }
 
-  const detail::Shader shader(scene, settings_);
+  const detail::Shader shader(scene, settings_, camera.pixelSpreadAngle());
   const std::uint32_t ts = settings_.tileSize;
   const std::uint32_t tilesX = (w + ts - 1) / ts, tilesY = (h + ts - 1) / ts;
   const std::size_t tileCount = static_cast<std::size_t>(tilesX) * tilesY;

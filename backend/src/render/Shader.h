@@ -114,7 +114,9 @@ struct WaveScratch {
 /// Traces and shades rays for one mode.
 class Shader {
  public:
-  Shader(const RenderScene& scene, const RenderSettings& settings);
+  /// `pixelSpread` is Camera::pixelSpreadAngle of the frame's camera: primary rays' texture
+  /// footprints grow with it (ray cones).
+  Shader(const RenderScene& scene, const RenderSettings& settings, float pixelSpread);
 
   /// Traces a primary ray and shades it in the configured mode.
   PixelSample shadePrimary(const Ray& ray, TraversalContext& ctx, TileCounters& counters) const;
@@ -142,8 +144,15 @@ class Shader {
   /// The light arriving along `ray` (Whitted/OpenGL), `depth` bounces after the primary hit.
   Vec3f trace(const Ray& ray, int depth, float weight, TraversalContext& ctx,
               TileCounters& counters) const;
-  /// The material and facing normals at a hit, with the ambient term.
-  SurfaceShading prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const;
+  /// The material and facing normals at a hit `depth` bounces after the primary hit, with the
+  /// ambient term.
+  SurfaceShading prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
+                         int depth) const;
+  /// log2 of the width in texels of `texture`'s full image that the ray cone of a primary ray
+  /// covers at `hit`, seen at the angle of the geometric normal (Ray Tracing Gems' ray cones:
+  /// isotropic, as OpenGL's mip-mapping); NaN where it is unknown (level 0 is then read).
+  float textureLod(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
+                   const Texture& texture) const;
   /// The refined hit point of `sh`, computed once.
   const SurfacePoint& surface(SurfaceShading& sh) const;
   /// For every light that may add to the colour at `sh`, in light order: fills the term
@@ -196,6 +205,7 @@ class Shader {
   /// By instance: an index over RenderScene::instanceMaterialRanges (empty where it is).
   std::vector<MaterialRangeIndex> rangeIndex_;
   Material defaultMaterial_{};  ///< for hits without a material, as RenderScene gives
+  float pixelSpread_;           ///< the camera's ray-cone spread angle per pixel, in radians
   /// rs_.pointLights by four, for the baseline light terms (when pointTerms8_ is null).
   std::vector<PointLightGroup<4>> pointGroups4_;
   /// rs_.pointLights by eight, for pointTerms8_.

@@ -3,6 +3,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <new>
 #include <optional>
 
@@ -333,6 +334,19 @@ void pointLightTerms4(const PointLightGroup<4>& q, const PointLight* lights, std
   pointLightTermsWith<Lanes4>(q, count, p, attenuate, out);
 }
 
+/// log2(x) within 0.01 for normal x > 0 (exponent plus a quadratic in the mantissa), -inf for
+/// zeros and denormals, NaN for negative x and NaN, +inf for +inf: good enough to choose a mip
+/// level, and a fraction of std::log2's cost.
+float roughLog2(float x) {
+  if (!(x >= 0x1p-126f)) return x >= 0.0f ? -kInfinity : std::numeric_limits<float>::quiet_NaN();
+  if (x == kInfinity) return kInfinity;
+  const auto bits = std::bit_cast<std::uint32_t>(x);
+  const auto exponent = static_cast<float>(static_cast<std::int32_t>(bits >> 23) - 127);
+  const float m = std::bit_cast<float>((bits & 0x007FFFFFu) | 0x3F800000u) - 1.0f;  // [0, 1)
+  // log2(1 + m) ~ m (1.3466 - 0.3466 m): exact at 0 and 1, off by < 0.0075 between.
+  return exponent + m * (1.3466f - 0.3466f * m);
+}
+
 /// Lane j of `rows` set to `value`.
 template <std::size_t W>
 void setLane(float (&rows)[3][W], std::size_t j, const Vec3f& value) {
@@ -409,11 +423,12 @@ Vec3f hashColor(std::uint32_t id) {
 
 }  // namespace
 
-Shader::Shader(const RenderScene& scene, const RenderSettings& settings)
+Shader::Shader(const RenderScene& scene, const RenderSettings& settings, float pixelSpread)
     : rs_(scene),
       scene_(*scene.scene),
       settings_(settings),
-      whitted_(settings.mode == RenderMode::Whitted) {
+      whitted_(settings.mode == RenderMode::Whitted),
+      pixelSpread_(pixelSpread) {
   highlightLimits_.reserve(scene.materials.size());
   for (const Material& m : scene.materials) highlightLimits_.push_back(highlightLimits(m));
   rangeIndex_.resize(scene.instanceMaterialRanges.size());
@@ -531,9 +546,9 @@ void Shader::shadeOpenGlLanes(const Ray* rays, const Hit* hits, std::size_t n,
                                          Scene::SurfaceData(scene_.surfaceAt(rays[k], hits[k]));
       s.normal = sd.shadingNormal;
       if (otherLights)
-        setLane(lanes, j, shading[j].emplace(prepare(rays[k], hits[k], sd)));
+        setLane(lanes, j, shading[j].emplace(prepare(rays[k], hits[k], sd, 0)));
       else
-        setLane(lanes, j, prepare(rays[k], hits[k], sd));
+        setLane(lanes, j, prepare(rays[k], hits[k], sd, 0));
       shaded |= 1u << j;
     }
     if (shaded == 0) continue;
@@ -570,7 +585,21 @@ bool Shader::mayTrace(int depth, float childWeight, TileCounters& counters) cons
   return true;
 }
 
-SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd) const {
+float Shader::textureLod(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
+                         const Texture& texture) const {
+  // The cone of a primary ray starts at the eye with width 0 and spreads by pixelSpread_: at
+  // the hit (unit direction, so t is the distance) it is t * spread wide, and its footprint on
+  // the surface 1 / |cos| times that. Texels per unit of world length are the square root of
+  // (uv area per world area) * texels per uv area.
+  const float cosine = std::abs(dot(sd.geometricNormal, ray.direction));
+  const float width = hit.t * pixelSpread_ / cosine;
+  const float texelsPerArea = scene_.uvAreaPerWorldArea(hit) * static_cast<float>(texture.width()) *
+                              static_cast<float>(texture.height());
+  return 0.5f * roughLog2(width * width * texelsPerArea);
+}
+
+SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
+                               int depth) const {
   // RenderScene::material, keeping the index for the material's highlight cutoff.
   const std::uint32_t index =
       rs_.materialIndexWith(hit.instanceId, hit.objectId, hit.primId,
@@ -591,7 +620,12 @@ SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::Surf
   sh.diffuse = m.diffuse;
   Vec3f ambient = m.ambient;
   if (m.texture != kInvalidId && sd.hasUv) {
-    const Vec3f texel = rs_.textures[m.texture]->sample(sd.uv, settings_.textureFilter);
+    const Texture& texture = *rs_.textures[m.texture];
+    // Secondary rays carry no cone: they read the full-resolution image.
+    const bool mipMapped = settings_.textureFilter == TextureFilter::Trilinear && depth == 0;
+    const Vec3f texel = mipMapped ? texture.sample(sd.uv, settings_.textureFilter,
+                                                   textureLod(ray, hit, sd, texture))
+                                  : texture.sample(sd.uv, settings_.textureFilter);
     sh.diffuse = m.textureMode == TextureMode::Replace ? texel : sh.diffuse * texel;
     ambient = ambient * texel;
   }
@@ -671,7 +705,7 @@ Vec3f Shader::unshadowedColor(const SurfaceShading& sh) const {
 
 Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
                        float weight, TraversalContext& ctx, TileCounters& counters) const {
-  SurfaceShading sh = prepare(ray, hit, sd);
+  SurfaceShading sh = prepare(ray, hit, sd, depth);
   if (!whitted_) return unshadowedColor(sh);
   LightTerm term;
   forEachLightTerm(

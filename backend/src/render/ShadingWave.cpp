@@ -89,7 +89,8 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
   for (std::size_t k = 0; k < n; ++k) {
     if (!level.hits[k].valid()) continue;
     level.sds[k] = scene_.surfaceAt(level.rays[k], level.hits[k]);
-    level.shading[k].emplace(prepare(level.rays[k], level.hits[k], *level.sds[k]));
+    level.shading[k].emplace(
+        prepare(level.rays[k], level.hits[k], *level.sds[k], static_cast<int>(depth)));
     collectLightTerms(*level.shading[k], counters, scratch.terms.data() + k * lights);
   }
   // The shadow rays towards one light, in ray order, to the scene together.

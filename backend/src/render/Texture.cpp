@@ -2,12 +2,14 @@
 
 #include <stb_image.h>
 
+#include <algorithm>
 #include <bit>
 #include <cctype>
 #include <cmath>
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tracegraph/backend/Error.h"
@@ -174,6 +176,35 @@ Texture::Texture(Image rgb, std::string name) : image_(std::move(rgb)), name_(st
   if (image_.channels() != 3 || image_.empty())
     throw Error("Texture " + name_ + ": needs a non-empty 3-channel image");
   buildPalette();
+  buildMips();
+}
+
+void Texture::buildMips() {
+  std::uint32_t w = image_.width(), h = image_.height();
+  const MipLevel* above = nullptr;
+  while (w > 1 || h > 1) {
+    MipLevel level;
+    level.width = std::max(w / 2, 1u);
+    level.height = std::max(h / 2, 1u);
+    level.texels.resize(static_cast<std::size_t>(level.width) * level.height);
+    // Texels of the level above; an odd last column or row is left out, and a side of one
+    // texel wraps onto itself.
+    const auto source = [&](std::uint32_t x, std::uint32_t y) {
+      x %= w;
+      y %= h;
+      return above ? above->at(x, y) : at(x, y);
+    };
+    for (std::uint32_t y = 0; y < level.height; ++y)
+      for (std::uint32_t x = 0; x < level.width; ++x)
+        level.texels[static_cast<std::size_t>(y) * level.width + x] =
+            (source(2 * x, 2 * y) + source(2 * x + 1, 2 * y) + source(2 * x, 2 * y + 1) +
+             source(2 * x + 1, 2 * y + 1)) *
+            0.25f;
+    mips_.push_back(std::move(level));
+    above = &mips_.back();
+    w = above->width;
+    h = above->height;
+  }
 }
 
 void Texture::buildPalette() {
@@ -229,26 +260,105 @@ Vec3f Texture::texel(long long x, long long y) const {
   return at(wrap(x, image_.width()), wrap(y, image_.height()));
 }
 
-Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
-  if (image_.empty()) return {1.0f, 1.0f, 1.0f};
+Vec3f Texture::mipTexel(std::size_t level, long long x, long long y) const {
+  if (level == 0 || level > mips_.size())
+    throw Error("Texture::mipTexel: level " + std::to_string(level) + " of " + name_ +
+                " is not in 1.." + std::to_string(mips_.size()));
+  const MipLevel& m = mips_[level - 1];
+  return m.at(wrap(x, m.width), wrap(y, m.height));
+}
+
+template <class TexelAt>
+Vec3f Texture::bilinear(const Vec2f& uv, std::uint32_t width, std::uint32_t height,
+                        const TexelAt& texelAt) const {
   // Work in double: u * width for u of a few thousand repeats must still pick the right texel.
   // The (exact) remainder keeps huge coordinates from overflowing the integer conversion below.
-  const double x = wrapCoordinate(uv.u, image_.width());
-  const double y = wrapCoordinate(uv.v, image_.height());
-  if (!std::isfinite(x) || !std::isfinite(y)) return texel(0, 0);
-  if (filter == TextureFilter::Nearest)
-    return texel(static_cast<long long>(std::floor(x)), static_cast<long long>(std::floor(y)));
+  const double x = wrapCoordinate(uv.u, width);
+  const double y = wrapCoordinate(uv.v, height);
+  if (!std::isfinite(x) || !std::isfinite(y)) return texelAt(0, 0);
   // Texel centres sit at half-integers; interpolate between the four around (x, y).
   const double fx = x - 0.5, fy = y - 0.5;
   const double x0 = std::floor(fx), y0 = std::floor(fy);
   const float ax = static_cast<float>(fx - x0), ay = static_cast<float>(fy - y0);
   const long long ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
   // Each column and row wrapped once, shared by the two texels that use it.
-  const std::uint32_t c0 = wrap(ix, image_.width()), c1 = wrap(ix + 1, image_.width());
-  const std::uint32_t r0 = wrap(iy, image_.height()), r1 = wrap(iy + 1, image_.height());
-  const Vec3f top = at(c0, r0) * (1.0f - ax) + at(c1, r0) * ax;
-  const Vec3f bottom = at(c0, r1) * (1.0f - ax) + at(c1, r1) * ax;
+  const std::uint32_t c0 = wrap(ix, width), c1 = wrap(ix + 1, width);
+  const std::uint32_t r0 = wrap(iy, height), r1 = wrap(iy + 1, height);
+  const Vec3f top = texelAt(c0, r0) * (1.0f - ax) + texelAt(c1, r0) * ax;
+  const Vec3f bottom = texelAt(c0, r1) * (1.0f - ax) + texelAt(c1, r1) * ax;
   return top * (1.0f - ay) + bottom * ay;
+}
+
+Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
+  if (image_.empty()) return {1.0f, 1.0f, 1.0f};
+  if (filter == TextureFilter::Nearest) {
+    const double x = wrapCoordinate(uv.u, image_.width());
+    const double y = wrapCoordinate(uv.v, image_.height());
+    if (!std::isfinite(x) || !std::isfinite(y)) return texel(0, 0);
+    return texel(static_cast<long long>(std::floor(x)), static_cast<long long>(std::floor(y)));
+  }
+  return bilinear(uv, image_.width(), image_.height(),
+                  [this](std::uint32_t c, std::uint32_t r) { return at(c, r); });
+}
+
+namespace {
+
+/// The four texels and weights of a bilinear lookup in a width x height level.
+struct BilinearFootprint {
+  std::uint32_t c0, c1, r0, r1;  ///< columns and rows, wrapped
+  float ax, ay;                  ///< weights of c1 and r1
+};
+
+/// Where coordinate c falls in a level side of n texels (n < 2^24), in float: the fraction of
+/// c is exact, so that only the product with n rounds (by at most 2^-24 relative, a tiny part
+/// of a texel). Returns false for |c| >= 2^22 and NaN, which the double path handles.
+bool footprintAxis(float c, std::uint32_t n, std::uint32_t& lo, std::uint32_t& hi, float& a) {
+  if (!(std::abs(c) < 0x1p22f)) return false;
+  float f = c - static_cast<float>(static_cast<std::int32_t>(c));
+  if (f < 0.0f) f += 1.0f;  // [0, 1]: 1 only for a tiny negative c, wrapped below
+  const float x = f * static_cast<float>(n) - 0.5f;  // texel centres at integers: [-0.5, n - 0.5]
+  const std::int32_t i = x < 0.0f ? -1 : static_cast<std::int32_t>(x);
+  a = x - static_cast<float>(i);
+  lo = i < 0 ? n - 1 : static_cast<std::uint32_t>(i);
+  hi = static_cast<std::uint32_t>(i + 1) >= n ? static_cast<std::uint32_t>(i + 1) - n
+                                              : static_cast<std::uint32_t>(i + 1);
+  return true;
+}
+
+}  // namespace
+
+template <class TexelAt>
+Vec3f Texture::bilinearFloat(const Vec2f& uv, std::uint32_t width, std::uint32_t height,
+                             const TexelAt& texelAt) const {
+  BilinearFootprint f;
+  if (!footprintAxis(uv.u, width, f.c0, f.c1, f.ax) ||
+      !footprintAxis(uv.v, height, f.r0, f.r1, f.ay))
+    return bilinear(uv, width, height, texelAt);
+  const Vec3f top = texelAt(f.c0, f.r0) * (1.0f - f.ax) + texelAt(f.c1, f.r0) * f.ax;
+  const Vec3f bottom = texelAt(f.c0, f.r1) * (1.0f - f.ax) + texelAt(f.c1, f.r1) * f.ax;
+  return top * (1.0f - f.ay) + bottom * f.ay;
+}
+
+Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter, float lod) const {
+  if (filter != TextureFilter::Trilinear || !(lod > 0.0f) || mips_.empty())
+    return sample(uv, filter);
+  const auto last = static_cast<float>(mips_.size());
+  const float level = std::min(lod, last);
+  const auto upper = static_cast<std::size_t>(level);  // floor: level > 0
+  const float blend = level - static_cast<float>(upper);
+  // Minified lookups in float (bilinearFloat): the double arithmetic of the full-resolution
+  // path cost more than the rest of the lookup, for nothing visible at these sizes.
+  const auto lookup = [&](std::size_t l) {
+    if (l == 0)
+      return bilinearFloat(uv, image_.width(), image_.height(),
+                           [this](std::uint32_t c, std::uint32_t r) { return at(c, r); });
+    const MipLevel& m = mips_[l - 1];
+    return bilinearFloat(uv, m.width, m.height,
+                         [&m](std::uint32_t c, std::uint32_t r) { return m.at(c, r); });
+  };
+  const Vec3f a = lookup(upper);
+  if (blend == 0.0f) return a;
+  return a * (1.0f - blend) + lookup(upper + 1) * blend;
 }
 
 }  // namespace tg

@@ -168,6 +168,13 @@ class Scene {
   };
   /// Shading data at `hit`, which `ray` found in this scene.
   SurfaceData surfaceAt(const Ray& ray, const Hit& hit) const;
+  /// The texture-coordinate area of the hit triangle per unit of its world-space area: how a
+  /// footprint on the surface maps into texture space, for mip-mapping. Computed per triangle
+  /// at commit in object space and scaled by the instance's area scale (exact for rigid
+  /// motions and uniform scales; for non-uniform scales their mean over directions). 0 when
+  /// the mesh has no texture coordinates or the triangle is degenerate in either space, or for
+  /// an invalid hit.
+  float uvAreaPerWorldArea(const Hit& hit) const;
 
  private:
   /// Fills hit.geometricNormal of a hit found in the committed scene.

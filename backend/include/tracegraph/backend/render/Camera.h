@@ -2,6 +2,7 @@
 /// The pinhole camera that generates primary rays.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "tracegraph/backend/Ray.h"
@@ -51,6 +52,12 @@ class Camera {
   /// (two square roots and six divisions per pair would otherwise run one by one).
   void rayPairThroughPlane(double sx0, double sx1, double sy, Ray* out) const;
 
+  /// The angle a pixel spans at the image centre, in radians: the spread of a ray cone
+  /// through one pixel (Akenine-Moeller et al., "Texture Level of Detail Strategies for
+  /// Real-Time Ray Tracing", Ray Tracing Gems, 2019), which sizes texture footprints.
+  float pixelSpreadAngle() const {
+    return static_cast<float>(std::atan(2.0 * halfHeight_ / static_cast<double>(params_.height)));
+  }
   /// The parameters the camera was made from.
   const CameraParams& params() const { return params_; }
   /// Image width in pixels.

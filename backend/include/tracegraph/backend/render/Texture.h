@@ -15,8 +15,10 @@ namespace tg {
 
 /// Texture reconstruction filter.
 enum class TextureFilter : std::uint8_t {
-  Nearest,   ///< the texel containing the sample point
-  Bilinear,  ///< weighted mean of the four nearest texel centres (wrapping at the borders)
+  Nearest,    ///< the texel containing the sample point
+  Bilinear,   ///< weighted mean of the four nearest texel centres (wrapping at the borders)
+  Trilinear,  ///< mip-mapped: Bilinear in the two levels around the footprint, blended
+              ///< (OpenGL's GL_LINEAR_MIPMAP_LINEAR); Bilinear where the footprint is unknown
 };
 
 /// How the texel values of a file are encoded.
@@ -42,8 +44,19 @@ class Texture {
   /// Throws tg::Error naming the file when it cannot be read or is malformed.
   static Texture load(const std::string& path, ColorEncoding encoding = ColorEncoding::Srgb);
 
-  /// The texel colour at `uv` with the given filter.
+  /// The texel colour at `uv` with the given filter, from the full-resolution image
+  /// (Trilinear reads level 0, as Bilinear does).
   Vec3f sample(const Vec2f& uv, TextureFilter filter) const;
+  /// The colour at `uv` over a footprint `lod` = log2(footprint width in texels of the full
+  /// image). Trilinear blends the bilinear lookups of levels floor(lod) and floor(lod) + 1 of
+  /// the mip chain (clamped to its last level); lod <= 0 and NaN read level 0, so that the
+  /// result is then sample(uv, Bilinear) exactly. Nearest and Bilinear ignore `lod`.
+  Vec3f sample(const Vec2f& uv, TextureFilter filter, float lod) const;
+  /// Levels of the mip chain, the full image included: 1 + floor(log2(max(width, height))).
+  std::size_t levelCount() const { return 1 + mips_.size(); }
+  /// Texel (x, y) of mip level `level` (1 to levelCount() - 1), both wrapped into the level:
+  /// the mean of the 2 x 2 texels (2x, 2y) to (2x + 1, 2y + 1) of the level above, wrapped.
+  Vec3f mipTexel(std::size_t level, long long x, long long y) const;
   /// Texel (x, y) with both wrapped into the image (any integers are valid).
   Vec3f texel(long long x, long long y) const;
 
@@ -66,6 +79,30 @@ class Texture {
   }
   /// Fills codes_ and palette_ when the image holds at most 256 distinct values.
   void buildPalette();
+  /// Fills mips_ by 2 x 2 box filtering, level after level, down to one texel.
+  void buildMips();
+  /// Bilinear lookup at `uv` in a width x height image whose texel (column, row) is
+  /// texelAt(column, row).
+  template <class TexelAt>
+  Vec3f bilinear(const Vec2f& uv, std::uint32_t width, std::uint32_t height,
+                 const TexelAt& texelAt) const;
+
+  /// bilinear in float arithmetic (exact but for the rounding of u * width and v * height),
+  /// falling back to bilinear for coordinates of 2^22 and beyond.
+  template <class TexelAt>
+  Vec3f bilinearFloat(const Vec2f& uv, std::uint32_t width, std::uint32_t height,
+                      const TexelAt& texelAt) const;
+
+  /// One level of the mip chain below the full image.
+  struct MipLevel {
+    std::uint32_t width = 0, height = 0;
+    std::vector<Vec3f> texels;  ///< row-major
+    Vec3f at(std::uint32_t column, std::uint32_t row) const {
+      return texels[static_cast<std::size_t>(row) * width + column];
+    }
+  };
+  /// Levels 1, 2, ... (each half the size of the one above, at least 1 x 1).
+  std::vector<MipLevel> mips_;
 
   Image image_;
   std::string name_;
