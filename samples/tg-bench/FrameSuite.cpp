@@ -65,6 +65,13 @@ void runMode(BenchReport& report, const SceneSource& source, const FrameSuiteOpt
   settings.maxDepth = options.depth;
   // tg-render fills the AOVs only when asked for them; the benchmark measures the beauty image.
   settings.aovs = false;
+  const std::string& filter = options.textureFilter;
+  if (filter == "nearest")
+    settings.textureFilter = TextureFilter::Nearest;
+  else if (filter == "trilinear")
+    settings.textureFilter = TextureFilter::Trilinear;
+  else if (filter != "bilinear")
+    throw Error("frame suite: unknown texture filter '" + filter + "'");
 
   const std::vector<int> frames = spreadFrames(source.timing.frames, options.frames);
   const int count = static_cast<int>(frames.size());
@@ -73,7 +80,8 @@ void runMode(BenchReport& report, const SceneSource& source, const FrameSuiteOpt
   const std::string size = std::to_string(width) + "x" + std::to_string(height);
   std::string caseName = source.name + " " + size + " " + modeName;
   if (*mode == RenderMode::Whitted) caseName += " depth " + std::to_string(options.depth);
-  const std::string impl = "tracegraph-" + engineName + "-" + modeName;
+  std::string impl = "tracegraph-" + engineName + "-" + modeName;
+  if (filter != "bilinear") impl += "-" + filter;
   progress("frame: " + impl);
 
   // A graph and renderer of its own per mode, so that every mode starts from the same state.

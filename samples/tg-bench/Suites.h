@@ -74,6 +74,8 @@ struct FrameSuiteOptions {
   std::vector<std::string> engines = {"bvh", "kd"};        ///< engines, one row each per mode
   int depth = 3;   ///< Whitted bounces after the primary hit
   int frames = 5;  ///< frames spread evenly over the animation, first and last included
+  /// How textures are sampled; rows of other filters than bilinear name it after the mode.
+  std::string textureFilter = "bilinear";
 };
 
 /// `load`: parsing an .aff/.nff file, converting it to a node graph, and the first sync.

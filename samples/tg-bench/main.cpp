@@ -173,6 +173,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 64))
       ->capture_default_str();
   frameCmd
+      ->add_option("--texture-filter", frameOptions.textureFilter,
+                   "Texture lookups, as tg-render's --texture-filter")
+      ->check(CLI::IsMember({"nearest", "bilinear", "trilinear"}))
+      ->capture_default_str();
+  frameCmd
       ->add_option("--frames", frameOptions.frames,
                    "Frames spread evenly over the animation (--reps: passes over them)")
       ->check(CLI::Range(1, 100000))

@@ -148,9 +148,9 @@ class Shader {
   /// ambient term.
   SurfaceShading prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
                          int depth) const;
-  /// log2 of the width in texels of `texture`'s full image that the ray cone of a primary ray
-  /// covers at `hit`, seen at the angle of the geometric normal (Ray Tracing Gems' ray cones:
-  /// isotropic, as OpenGL's mip-mapping); NaN where it is unknown (level 0 is then read).
+  /// The mip level of `texture` for the footprint of a primary ray's cone at `hit` (Ray
+  /// Tracing Gems' ray cones, sized by the footprint's area on the surface; see Shading.cpp);
+  /// -inf or NaN where it is unknown (level 0 is then read).
   float textureLod(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
                    const Texture& texture) const;
   /// The refined hit point of `sh`, computed once.
