@@ -555,7 +555,10 @@ int runReport(const CommonOptions& common, const ReportOptions& options) {
         "against the reference's (inf: identical). *FLIP*: mean perceptual error (0: "
         "identical, 1: largest) of the eye-light image against the reference's, on a regular "
         "grid of the image's pixels (`FlipMetric.h`; PSNR counts every wrong pixel alike, FLIP "
-        "weighs what a viewer would notice).\n\n";
+        "weighs what a viewer would notice). *PSNR against 4x4 samples/pixel* (frames): the "
+        "last frame against the same frame rendered 4 x 4 times larger and averaged per "
+        "pixel, linear values clamped to [0, 1]: what one sample per pixel loses to "
+        "aliasing.\n\n";
 
   md << "## Contents\n\n";
   for (const Topic& t : topics) md << "- " << t.title << " (`" << t.suite << "`)\n";
