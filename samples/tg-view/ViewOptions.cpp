@@ -18,8 +18,8 @@ std::variant<ViewOptions, int> parseViewOptions(int argc, char** argv) {
       "tg-view: plays a scene (BART .aff/.nff, .x3d, glTF/OBJ/PLY via Assimp) or, without SCENE, "
       "the built-in demo in a window.\n"
       "Mouse: left drag orbits, right or middle drag pans, wheel zooms. Keys: space play/pause, "
-      "right/left arrow step a frame, 1-5 opengl/whitted/normals/classes/instances, +/- "
-      "resolution, Esc or q quit."};
+      "right/left arrow step a frame, 1-5 opengl/whitted/normals/classes/instances, t "
+      "mip-mapped textures on/off, +/- resolution, Esc or q quit."};
   std::string scene, size, mode = "whitted", accel = "bvh";
   app.add_option("SCENE", scene, "scene file; omitted: the built-in demo scene");
   app.add_option("--size", size, "window size WxH (default: the scene's own, else 640x480)");

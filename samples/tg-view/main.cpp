@@ -8,7 +8,8 @@
 //
 // Mouse: left drag orbits, right or middle drag pans, the wheel zooms; the first drag takes the
 // view over from the scene's camera ('c' gives it back). Keys: space play/pause, right/left
-// arrow step one frame, 1-5 shading mode, +/- render resolution, Esc or q quit.
+// arrow step one frame, 1-5 shading mode, t mip-mapped textures on/off, +/- render
+// resolution, Esc or q quit.
 //
 // Exit codes: 0 success, 1 bad input (the message names the file) or no window, 2 bad usage.
 #include <GLFW/glfw3.h>
@@ -126,6 +127,14 @@ struct Viewer {
     renderer.setSettings(settings);
     changed = true;
   }
+  /// Switches textures between bilinear and mip-mapped (trilinear) lookups.
+  void toggleMipMaps() {
+    settings.textureFilter = settings.textureFilter == TextureFilter::Trilinear
+                                 ? TextureFilter::Bilinear
+                                 : TextureFilter::Trilinear;
+    renderer.setSettings(settings);
+    changed = true;
+  }
   void takeOverCamera() {
     if (!orbit.active()) orbit.takeOver(lastCamera, graph.backendScene().bounds());
   }
@@ -204,6 +213,10 @@ void onChar(GLFWwindow* window, unsigned int codepoint) {
       v.orbit = OrbitCamera{};
       v.changed = true;
       break;
+    case 't':
+    case 'T':
+      v.toggleMipMaps();
+      break;
     default:
       break;
   }
@@ -256,12 +269,13 @@ std::string title(const Viewer& v, const TitleStats& s, double seconds, std::uin
   char text[512];
   std::snprintf(text, sizeof text,
                 "tg-view - %s | %.1f fps | %.1f Mrays/s | sync %.2f ms (build %.2f, top %.2f) "
-                "trace %.1f ms | %s %ux%u | frame %d%s",
+                "trace %.1f ms | %s%s %ux%u | frame %d%s",
                 v.name.c_str(), s.frames / seconds,
                 s.renderMs > 0.0 ? s.rays / (s.renderMs * 1e3) : 0.0, s.syncMs / n, s.rebuildMs / n,
                 s.toplevelMs / n, s.renderMs / n,
-                std::string(renderModeName(v.settings.mode)).c_str(), width, height,
-                v.playback.frameIndex(), v.playback.playing ? "" : " (paused)");
+                std::string(renderModeName(v.settings.mode)).c_str(),
+                v.settings.textureFilter == TextureFilter::Trilinear ? " mip-mapped" : "", width,
+                height, v.playback.frameIndex(), v.playback.playing ? "" : " (paused)");
   return text;
 }
 
