@@ -72,8 +72,8 @@ struct SurfacePointLanes {
   unsigned reflective = 0;  ///< bit j: the material of lane j is reflective
 };
 
-/// Adds to points.red/green/blue every one of `count` point lights' unshadowed terms, light by
-/// light in order, where a light adds a non-black term: for each lane, the colour OpenGL mode
+/// Adds to points.color every one of `count` point lights' unshadowed terms, light by light in
+/// order, where a light adds a non-black term: for each lane, the colour OpenGL mode
 /// sums through the light terms of LightTermsPoint, bit for bit. None of the lights attenuates.
 using PointLightSums8Fn = void (*)(const PlainPointLight* lights, std::size_t count,
                                    SurfacePointLanes<8>& points);

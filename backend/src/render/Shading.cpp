@@ -591,9 +591,10 @@ float Shader::textureLod(const Ray& ray, const Hit& hit, const Scene::SurfaceDat
   // the hit (unit direction, so t is the distance) it is w = t * spread wide, and it covers
   // w * w / |cos| of the surface. The level chosen matches the square root of that area in
   // texels (texels per area: uv area per world area times texels per uv area), less half a
-  // level, since a bilinear lookup spreads over about two texels of its level. Against 4 x 4
-  // supersampled bilinear frames (640x480, frame 300) this gained 0.7-0.9 dB over sizing by
-  // the footprint's long side, w / |cos|, and over no bias.
+  // level, since a bilinear lookup spreads over about two texels of its level. PSNR against
+  // 4 x 4 supersampled frames (640x480, frame 300, opengl), kitchen and robots: sized by the
+  // footprint's long side w / |cos| (OpenGL's isotropic choice) 28.97 and 22.13 dB, by its
+  // area 31.39 and 22.42 dB, with the half level 32.35 and 22.81 dB (bilinear: 29.65, 17.00).
   const float cosine = std::abs(dot(sd.geometricNormal, ray.direction));
   const float width = hit.t * pixelSpread_;
   const float texelsPerArea = scene_.uvAreaPerWorldArea(hit) * static_cast<float>(texture.width()) *

@@ -309,11 +309,12 @@ struct BilinearFootprint {
   float ax, ay;                  ///< weights of c1 and r1
 };
 
-/// Where coordinate c falls in a level side of n texels (n < 2^24), in float: the fraction of
-/// c is exact, so that only the product with n rounds (by at most 2^-24 relative, a tiny part
-/// of a texel). Returns false for |c| >= 2^22 and NaN, which the double path handles.
+/// Where coordinate c falls in a level side of n texels, in float: the fraction of c is exact,
+/// so that only the product with n rounds (by at most 2^-24 relative, a tiny part of a texel).
+/// Returns false for |c| >= 2^22, NaN and sides of 2^24 texels or more (not every such side is
+/// a float), which the double path handles.
 bool footprintAxis(float c, std::uint32_t n, std::uint32_t& lo, std::uint32_t& hi, float& a) {
-  if (!(std::abs(c) < 0x1p22f)) return false;
+  if (!(std::abs(c) < 0x1p22f) || n >= (1u << 24)) return false;
   float f = c - static_cast<float>(static_cast<std::int32_t>(c));
   if (f < 0.0f) f += 1.0f;  // [0, 1]: 1 only for a tiny negative c, wrapped below
   const float x = f * static_cast<float>(n) - 0.5f;  // texel centres at integers: [-0.5, n - 0.5]
