@@ -1223,6 +1223,45 @@ BOOST_AUTO_TEST_CASE(mip_levels_are_box_means_and_trilinear_blends_them) {
                   Vec3f{0.71875f, 0.03125f, 0.25f}));
 }
 
+BOOST_AUTO_TEST_CASE(trilinear_lookups_stay_within_the_texels_for_any_input) {
+  // Thin and odd sizes (levels of one texel's width, odd sides left out), special and huge
+  // coordinates, special footprints: every lookup is a convex blend of texel values.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> value(0.1f, 0.9f);
+  const std::vector<float> coords = {0.0f,       -0.0f,
+                                     0.5f,       -0.25f,
+                                     0.9999999f, 1.0f,
+                                     -1.0f,      7.3f,
+                                     -1234.56f,  4.0e6f,
+                                     -3.0e9f,    kInfinity,
+                                     -kInfinity, std::numeric_limits<float>::quiet_NaN(),
+                                     1e-40f};
+  const std::vector<float> lods = {
+      -kInfinity, -1.0f,  0.0f,  1e-40f, 0.3f,      1.0f,
+      1.5f,       2.999f, 17.0f, 1e30f,  kInfinity, std::numeric_limits<float>::quiet_NaN()};
+  for (const auto& [w, h] : {std::pair<std::uint32_t, std::uint32_t>{1, 1},
+                             {1, 7},
+                             {7, 1},
+                             {3, 5},
+                             {64, 2},
+                             {300, 301}}) {
+    Image img(w, h, 3);
+    for (float& v : img.data()) v = value(rng);
+    const Texture tex(std::move(img), "odd");
+    BOOST_TEST(tex.levelCount() ==
+               1u + static_cast<std::size_t>(std::bit_width(std::max(w, h)) - 1));
+    std::size_t outside = 0;
+    for (const float u : coords)
+      for (const float v : coords)
+        for (const float lod : lods) {
+          const Vec3f c = tex.sample({u, v}, TextureFilter::Trilinear, lod);
+          for (const float x : {c.x, c.y, c.z})
+            outside += !(x >= 0.1f - 1e-6f && x <= 0.9f + 1e-6f);
+        }
+    BOOST_TEST(outside == 0u, w << " x " << h);
+  }
+}
+
 BOOST_AUTO_TEST_CASE(trilinear_filtering_averages_distant_texels_and_keeps_close_ones) {
   // A floor with a one-texel checker repeated 20 times over 400 units, seen from just above
   // it towards the horizon: far away the checker is far below a pixel and bilinear lookups
