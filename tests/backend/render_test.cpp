@@ -1304,6 +1304,24 @@ BOOST_AUTO_TEST_CASE(trilinear_filtering_averages_distant_texels_and_keeps_close
     const Vec3f pb = b.beauty.rgb(x, h - 1), pt = t.beauty.rgb(x, h - 1);
     BOOST_TEST(std::memcmp(&pb, &pt, sizeof pb) == 0);
   }
+  // A mirror overhead reflects the floor: the reflected rays' cones go on widening from the
+  // mirror, so that the far floor in it is mip-mapped too.
+  Material mirror = mirrorMaterial(1.0f);
+  mirror.ambient = {0, 0, 0};
+  ts.add(makeQuad({-200, 2, 200}, {0, 0, -400}, {400, 0, 0}), mirror);
+  ts.scene.commit();
+  RenderSettings whitted = trilinear;
+  whitted.mode = RenderMode::Whitted;
+  const Frame mb = render(ts, cam,
+                          [&] {
+                            RenderSettings s = whitted;
+                            s.textureFilter = TextureFilter::Bilinear;
+                            return s;
+                          }()),
+              mt = render(ts, cam, whitted);
+  // Rows 14 to 21 show the floor's far end in the mirror, row 22 the horizon.
+  BOOST_TEST(spread(mb, 14, 22) > 0.05);
+  BOOST_TEST(spread(mt, 14, 22) < 0.01);
   // Packets and single rays, the wave and the recursive Whitted paths: the same footprints.
   for (const RenderMode mode : {RenderMode::OpenGL, RenderMode::Whitted}) {
     RenderSettings s = trilinear;

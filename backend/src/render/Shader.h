@@ -69,6 +69,8 @@ struct SurfaceShading {
   Vec3f color;                        ///< accumulated: ambient, then the unshadowed light terms
   std::optional<SurfacePoint> point;  ///< refined hit point, computed on first use
   HighlightLimits highlight;          ///< of the material
+  /// Width of the ray's cone at the hit (ray cones; 0 unless textures are mip-mapped).
+  float coneWidth = 0.0f;
 };
 
 /// The secondary rays a hit spawns in Whitted mode, and how their colours are weighed.
@@ -77,6 +79,7 @@ struct SecondaryRays {
   float refractWeight = 0.0f;  ///< multiplies the refracted colour
   Ray reflection, refraction;  ///< valid when reflects / refracts
   float reflectionPathWeight = 0.0f, refractionPathWeight = 0.0f;  ///< for the ray-weight cutoff
+  float coneWidth = 0.0f;  ///< width of both rays' cones where they start (the hit's)
   bool reflects = false, refracts = false;
 };
 
@@ -97,6 +100,7 @@ struct WaveScratch {
     std::vector<Ray> rays;
     std::vector<Hit> hits;
     std::vector<float> weight;  ///< path weight of the ray
+    std::vector<float> cone;    ///< width of the ray's cone where it starts
     std::vector<std::optional<Scene::SurfaceData>> sds;
     std::vector<std::optional<SurfaceShading>> shading;  ///< refers to rays, hits and sds
     std::vector<SecondaryRays> secondary;
@@ -141,18 +145,18 @@ class Shader {
                         TileCounters& counters, WaveScratch& scratch, PixelSample* out) const;
 
  private:
-  /// The light arriving along `ray` (Whitted/OpenGL), `depth` bounces after the primary hit.
-  Vec3f trace(const Ray& ray, int depth, float weight, TraversalContext& ctx,
+  /// The light arriving along `ray` (Whitted/OpenGL), `depth` bounces after the primary hit;
+  /// `cone` is the width of the ray's cone where it starts.
+  Vec3f trace(const Ray& ray, int depth, float weight, float cone, TraversalContext& ctx,
               TileCounters& counters) const;
-  /// The material and facing normals at a hit `depth` bounces after the primary hit, with the
-  /// ambient term.
+  /// The material and facing normals at a hit of a ray whose cone is `cone` wide where it
+  /// starts, with the ambient term.
   SurfaceShading prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
-                         int depth) const;
-  /// The mip level of `texture` for the footprint of a primary ray's cone at `hit` (Ray
-  /// Tracing Gems' ray cones, sized by the footprint's area on the surface; see Shading.cpp);
-  /// -inf or NaN where it is unknown (level 0 is then read).
-  float textureLod(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
-                   const Texture& texture) const;
+                         float cone) const;
+  /// The mip level of `texture` for the footprint of the ray cone of `sh` (Ray Tracing Gems'
+  /// ray cones, sized by the footprint's area on the surface; see Shading.cpp); -inf or NaN
+  /// where it is unknown (level 0 is then read).
+  float textureLod(const SurfaceShading& sh, const Texture& texture) const;
   /// The refined hit point of `sh`, computed once.
   const SurfacePoint& surface(SurfaceShading& sh) const;
   /// For every light that may add to the colour at `sh`, in light order: fills the term
@@ -190,7 +194,7 @@ class Shader {
                       WaveScratch& scratch) const;
   /// Phong shading plus, in Whitted mode, shadows, reflection and refraction at `hit`.
   Vec3f shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
-                 float weight, TraversalContext& ctx, TileCounters& counters) const;
+                 float weight, float cone, TraversalContext& ctx, TileCounters& counters) const;
   /// True when a secondary ray of weight `childWeight` may leave a hit `depth` bounces deep;
   /// otherwise counts why not.
   bool mayTrace(int depth, float childWeight, TileCounters& counters) const;

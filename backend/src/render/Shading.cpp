@@ -499,7 +499,8 @@ PixelSample Shader::shadePrimaryHit(const Ray& ray, const Hit& hit, TraversalCon
   s.primId = hit.primId;
   const Scene::SurfaceData sd = scene_.surfaceAt(ray, hit);
   s.normal = sd.shadingNormal;
-  s.color = debugMode ? debugColor(ray, hit, sd) : shadeHit(ray, hit, sd, 0, 1.0f, ctx, counters);
+  s.color =
+      debugMode ? debugColor(ray, hit, sd) : shadeHit(ray, hit, sd, 0, 1.0f, 0.0f, ctx, counters);
   return s;
 }
 
@@ -546,9 +547,9 @@ void Shader::shadeOpenGlLanes(const Ray* rays, const Hit* hits, std::size_t n,
                                          Scene::SurfaceData(scene_.surfaceAt(rays[k], hits[k]));
       s.normal = sd.shadingNormal;
       if (otherLights)
-        setLane(lanes, j, shading[j].emplace(prepare(rays[k], hits[k], sd, 0)));
+        setLane(lanes, j, shading[j].emplace(prepare(rays[k], hits[k], sd, 0.0f)));
       else
-        setLane(lanes, j, prepare(rays[k], hits[k], sd, 0));
+        setLane(lanes, j, prepare(rays[k], hits[k], sd, 0.0f));
       shaded |= 1u << j;
     }
     if (shaded == 0) continue;
@@ -566,11 +567,11 @@ void Shader::shadeOpenGlLanes(const Ray* rays, const Hit* hits, std::size_t n,
   }
 }
 
-Vec3f Shader::trace(const Ray& ray, int depth, float weight, TraversalContext& ctx,
+Vec3f Shader::trace(const Ray& ray, int depth, float weight, float cone, TraversalContext& ctx,
                     TileCounters& counters) const {
   Hit hit;
   if (!scene_.intersect(ray, hit, ctx)) return rs_.background;
-  return shadeHit(ray, hit, scene_.surfaceAt(ray, hit), depth, weight, ctx, counters);
+  return shadeHit(ray, hit, scene_.surfaceAt(ray, hit), depth, weight, cone, ctx, counters);
 }
 
 bool Shader::mayTrace(int depth, float childWeight, TileCounters& counters) const {
@@ -585,25 +586,24 @@ bool Shader::mayTrace(int depth, float childWeight, TileCounters& counters) cons
   return true;
 }
 
-float Shader::textureLod(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
-                         const Texture& texture) const {
-  // The cone of a primary ray starts at the eye with width 0 and spreads by pixelSpread_: at
-  // the hit (unit direction, so t is the distance) it is w = t * spread wide, and it covers
-  // w * w / |cos| of the surface. The level chosen matches the square root of that area in
-  // texels (texels per area: uv area per world area times texels per uv area), less half a
-  // level, since a bilinear lookup spreads over about two texels of its level. PSNR against
-  // 4 x 4 supersampled frames (640x480, frame 300, opengl), kitchen and robots: sized by the
-  // footprint's long side w / |cos| (OpenGL's isotropic choice) 28.97 and 22.13 dB, by its
-  // area 31.39 and 22.42 dB, with the half level 32.35 and 22.81 dB (bilinear: 29.65, 17.00).
-  const float cosine = std::abs(dot(sd.geometricNormal, ray.direction));
-  const float width = hit.t * pixelSpread_;
-  const float texelsPerArea = scene_.uvAreaPerWorldArea(hit) * static_cast<float>(texture.width()) *
+float Shader::textureLod(const SurfaceShading& sh, const Texture& texture) const {
+  // The ray's cone is w = sh.coneWidth wide at the hit and covers w * w / |cos| of the
+  // surface. The level chosen matches the square root of that area in texels (texels per area:
+  // uv area per world area times texels per uv area), less half a level, since a bilinear
+  // lookup spreads over about two texels of its level. PSNR against 4 x 4 supersampled frames
+  // (640x480, frame 300, opengl), kitchen and robots: sized by the footprint's long side
+  // w / |cos| (OpenGL's isotropic choice) 28.97 and 22.13 dB, by its area 31.39 and 22.42 dB,
+  // with the half level 32.35 and 22.81 dB (bilinear: 29.65 and 17.00).
+  const float cosine = std::abs(dot(sh.sd.geometricNormal, sh.dir));
+  const float width = sh.coneWidth;
+  const float texelsPerArea = scene_.uvAreaPerWorldArea(sh.hit) *
+                              static_cast<float>(texture.width()) *
                               static_cast<float>(texture.height());
   return 0.5f * roughLog2(width * width * texelsPerArea / (2.0f * cosine));
 }
 
 SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
-                               int depth) const {
+                               float cone) const {
   // RenderScene::material, keeping the index for the material's highlight cutoff.
   const std::uint32_t index =
       rs_.materialIndexWith(hit.instanceId, hit.objectId, hit.primId,
@@ -620,16 +620,19 @@ SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::Surf
   sh.ns = sh.backFace ? -sd.shadingNormal : sd.shadingNormal;
   sh.dir = normalize(ray.direction);
   sh.v = -sh.dir;
+  const bool mipMapped = settings_.textureFilter == TextureFilter::Trilinear;
+  // The cone starts `cone` wide (a primary ray's at the eye: 0) and spreads by one pixel's
+  // angle: reflection and refraction keep the spread, as a flat surface would (Ray Tracing
+  // Gems' cones add the surface's curvature; flat is what BART's polygons are).
+  if (mipMapped) sh.coneWidth = cone + hit.t * length(ray.direction) * pixelSpread_;
   const Material& m = sh.material;
   sh.diffuse = m.diffuse;
   Vec3f ambient = m.ambient;
   if (m.texture != kInvalidId && sd.hasUv) {
     const Texture& texture = *rs_.textures[m.texture];
-    // Secondary rays carry no cone: they read the full-resolution image.
-    const bool mipMapped = settings_.textureFilter == TextureFilter::Trilinear && depth == 0;
-    const Vec3f texel = mipMapped ? texture.sample(sd.uv, settings_.textureFilter,
-                                                   textureLod(ray, hit, sd, texture))
-                                  : texture.sample(sd.uv, settings_.textureFilter);
+    const Vec3f texel =
+        mipMapped ? texture.sample(sd.uv, settings_.textureFilter, textureLod(sh, texture))
+                  : texture.sample(sd.uv, settings_.textureFilter);
     sh.diffuse = m.textureMode == TextureMode::Replace ? texel : sh.diffuse * texel;
     ambient = ambient * texel;
   }
@@ -708,8 +711,9 @@ Vec3f Shader::unshadowedColor(const SurfaceShading& sh) const {
 }
 
 Vec3f Shader::shadeHit(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, int depth,
-                       float weight, TraversalContext& ctx, TileCounters& counters) const {
-  SurfaceShading sh = prepare(ray, hit, sd, depth);
+                       float weight, float cone, TraversalContext& ctx,
+                       TileCounters& counters) const {
+  SurfaceShading sh = prepare(ray, hit, sd, cone);
   if (!whitted_) return unshadowedColor(sh);
   LightTerm term;
   forEachLightTerm(
@@ -738,10 +742,12 @@ std::size_t Shader::lightCount() const {
 Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, TraversalContext& ctx,
                            TileCounters& counters) const {
   const SecondaryRays s = planSecondary(sh, depth, weight, counters);
-  const Vec3f reflected =
-      s.reflects ? trace(s.reflection, depth + 1, s.reflectionPathWeight, ctx, counters) : Vec3f{};
-  const Vec3f refracted =
-      s.refracts ? trace(s.refraction, depth + 1, s.refractionPathWeight, ctx, counters) : Vec3f{};
+  const Vec3f reflected = s.reflects ? trace(s.reflection, depth + 1, s.reflectionPathWeight,
+                                             s.coneWidth, ctx, counters)
+                                     : Vec3f{};
+  const Vec3f refracted = s.refracts ? trace(s.refraction, depth + 1, s.refractionPathWeight,
+                                             s.coneWidth, ctx, counters)
+                                     : Vec3f{};
   return combineSecondary(sh.color, s, reflected, refracted);
 }
 
@@ -753,6 +759,7 @@ SecondaryRays Shader::planSecondary(SurfaceShading& sh, int depth, float weight,
   const Vec3f& ng = sh.ng;
   const bool backFace = sh.backFace;
   SecondaryRays out;
+  out.coneWidth = sh.coneWidth;
   // Glass splits its transmittance T between reflection and refraction by Fresnel; the mirror
   // part (specular) adds to the reflection, traced as one ray.
   Vec3f reflectWeight = m.specular;

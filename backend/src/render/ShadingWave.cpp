@@ -19,6 +19,7 @@ void Shader::shadeWhittedTile(const Ray* rays, const Hit* hits, std::size_t n,
   top.rays.assign(rays, rays + n);
   top.hits.assign(hits, hits + n);
   top.weight.assign(n, 1.0f);
+  top.cone.assign(n, 0.0f);
   counters.traced.primary += n;
 
   // Down: shade each depth and plan the next, until no ray is left.
@@ -66,6 +67,7 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
   WaveScratch::Level& next = scratch.levels[depth + 1];
   next.rays.clear();
   next.weight.clear();
+  next.cone.clear();
 
   const std::size_t n = level.rays.size();
   if (depth > 0) {
@@ -89,8 +91,7 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
   for (std::size_t k = 0; k < n; ++k) {
     if (!level.hits[k].valid()) continue;
     level.sds[k] = scene_.surfaceAt(level.rays[k], level.hits[k]);
-    level.shading[k].emplace(
-        prepare(level.rays[k], level.hits[k], *level.sds[k], static_cast<int>(depth)));
+    level.shading[k].emplace(prepare(level.rays[k], level.hits[k], *level.sds[k], level.cone[k]));
     collectLightTerms(*level.shading[k], counters, scratch.terms.data() + k * lights);
   }
   // The shadow rays towards one light, in ray order, to the scene together.
@@ -128,12 +129,14 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
       level.reflectionChild[k] = static_cast<std::uint32_t>(next.rays.size());
       next.rays.push_back(level.secondary[k].reflection);
       next.weight.push_back(level.secondary[k].reflectionPathWeight);
+      next.cone.push_back(level.secondary[k].coneWidth);
     }
   for (std::size_t k = 0; k < n; ++k)
     if (level.shading[k] && level.secondary[k].refracts) {
       level.refractionChild[k] = static_cast<std::uint32_t>(next.rays.size());
       next.rays.push_back(level.secondary[k].refraction);
       next.weight.push_back(level.secondary[k].refractionPathWeight);
+      next.cone.push_back(level.secondary[k].coneWidth);
     }
 }
 

@@ -39,9 +39,9 @@ struct RenderSettings {
   float minWeight = 0.01f;
   /// Tile edge in pixels; tiles are the unit of parallel work.
   std::uint32_t tileSize = 16;
-  /// How textures are sampled. Trilinear mip-maps by the footprint of each primary ray's cone
-  /// (one pixel wide): less aliasing where textures are minified, at some cost per lookup;
-  /// hits of secondary rays then read the full-resolution image bilinearly.
+  /// How textures are sampled. Trilinear mip-maps by the footprint of each ray's cone (one
+  /// pixel wide at the camera, widening on through reflections and refractions): less aliasing
+  /// where textures are minified, at some cost per lookup.
   TextureFilter textureFilter = TextureFilter::Bilinear;
   /// Fill the AOVs (depth, normal, instance and primitive ids); off saves memory and time.
   bool aovs = true;
