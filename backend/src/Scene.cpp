@@ -615,10 +615,7 @@ float Scene::uvAreaPerWorldArea(const Hit& hit) const {
   const float objectRatio = perTriangle[hit.primId];
   // Areas grow from object to world space by |det L|^(2/3) for L = M^-1, exactly so for rigid
   // motions and uniform scales (and as a mean over directions for non-uniform ones).
-  const Affine3d& m = impl_->committedWorldToObject(hit.instanceId);
-  const double det = m.m[0][0] * (m.m[1][1] * m.m[2][2] - m.m[1][2] * m.m[2][1]) -
-                     m.m[0][1] * (m.m[1][0] * m.m[2][2] - m.m[1][2] * m.m[2][0]) +
-                     m.m[0][2] * (m.m[1][0] * m.m[2][1] - m.m[1][1] * m.m[2][0]);
+  const double det = impl_->committedWorldToObject(hit.instanceId).determinant();
   if (det == 1.0) return objectRatio;
   return static_cast<float>(static_cast<double>(objectRatio) * std::cbrt(det * det));
 }
