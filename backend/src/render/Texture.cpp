@@ -268,6 +268,24 @@ Vec3f Texture::mipTexel(std::size_t level, long long x, long long y) const {
   return m.at(wrap(x, m.width), wrap(y, m.height));
 }
 
+namespace {
+
+/// The four texels and weights of a bilinear lookup in a width x height level.
+struct BilinearFootprint {
+  std::uint32_t c0, c1, r0, r1;  ///< columns and rows, wrapped
+  float ax, ay;                  ///< weights of c1 and r1
+};
+
+/// The four texels of `f` weighed: along the rows first, then between them.
+template <class TexelAt>
+Vec3f blend(const BilinearFootprint& f, const TexelAt& texelAt) {
+  const Vec3f top = texelAt(f.c0, f.r0) * (1.0f - f.ax) + texelAt(f.c1, f.r0) * f.ax;
+  const Vec3f bottom = texelAt(f.c0, f.r1) * (1.0f - f.ax) + texelAt(f.c1, f.r1) * f.ax;
+  return top * (1.0f - f.ay) + bottom * f.ay;
+}
+
+}  // namespace
+
 template <class TexelAt>
 Vec3f Texture::bilinear(const Vec2f& uv, std::uint32_t width, std::uint32_t height,
                         const TexelAt& texelAt) const {
@@ -279,14 +297,15 @@ Vec3f Texture::bilinear(const Vec2f& uv, std::uint32_t width, std::uint32_t heig
   // Texel centres sit at half-integers; interpolate between the four around (x, y).
   const double fx = x - 0.5, fy = y - 0.5;
   const double x0 = std::floor(fx), y0 = std::floor(fy);
-  const float ax = static_cast<float>(fx - x0), ay = static_cast<float>(fy - y0);
   const long long ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
   // Each column and row wrapped once, shared by the two texels that use it.
-  const std::uint32_t c0 = wrap(ix, width), c1 = wrap(ix + 1, width);
-  const std::uint32_t r0 = wrap(iy, height), r1 = wrap(iy + 1, height);
-  const Vec3f top = texelAt(c0, r0) * (1.0f - ax) + texelAt(c1, r0) * ax;
-  const Vec3f bottom = texelAt(c0, r1) * (1.0f - ax) + texelAt(c1, r1) * ax;
-  return top * (1.0f - ay) + bottom * ay;
+  const BilinearFootprint f{.c0 = wrap(ix, width),
+                            .c1 = wrap(ix + 1, width),
+                            .r0 = wrap(iy, height),
+                            .r1 = wrap(iy + 1, height),
+                            .ax = static_cast<float>(fx - x0),
+                            .ay = static_cast<float>(fy - y0)};
+  return blend(f, texelAt);
 }
 
 Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
@@ -302,12 +321,6 @@ Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
 }
 
 namespace {
-
-/// The four texels and weights of a bilinear lookup in a width x height level.
-struct BilinearFootprint {
-  std::uint32_t c0, c1, r0, r1;  ///< columns and rows, wrapped
-  float ax, ay;                  ///< weights of c1 and r1
-};
 
 /// Where coordinate c falls in a level side of n texels, in float: the fraction of c is exact,
 /// so that only the product with n rounds (by at most 2^-24 relative, a tiny part of a texel).
@@ -335,9 +348,7 @@ Vec3f Texture::bilinearFloat(const Vec2f& uv, std::uint32_t width, std::uint32_t
   if (!footprintAxis(uv.u, width, f.c0, f.c1, f.ax) ||
       !footprintAxis(uv.v, height, f.r0, f.r1, f.ay))
     return bilinear(uv, width, height, texelAt);
-  const Vec3f top = texelAt(f.c0, f.r0) * (1.0f - f.ax) + texelAt(f.c1, f.r0) * f.ax;
-  const Vec3f bottom = texelAt(f.c0, f.r1) * (1.0f - f.ax) + texelAt(f.c1, f.r1) * f.ax;
-  return top * (1.0f - f.ay) + bottom * f.ay;
+  return blend(f, texelAt);
 }
 
 Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter, float lod) const {
