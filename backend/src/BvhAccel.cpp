@@ -621,7 +621,8 @@ unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays&
     return changed;
   }
   c.kernels->traverse(nodes_.data(), root.child, root.count, rays.box, lanes, false,
-                      &intersectPacketLeaf, &intersectSingleLane, &c, ctx.nodeVisits);
+                      AnyHitOrder::Slots, &intersectPacketLeaf, &intersectSingleLane, &c,
+                      ctx.nodeVisits);
   return c.changed;
 }
 
@@ -638,8 +639,10 @@ unsigned BvhAccel::occludedLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& 
     }
     return blocked;
   }
+  // Slot order within objects, as single rays walk them (AnyHitOrder::Slots).
   return c.kernels->traverse(nodes_.data(), root.child, root.count, rays.box, lanes, true,
-                             &occludedPacketLeaf, &occludedSingleLane, &c, ctx.nodeVisits);
+                             AnyHitOrder::Slots, &occludedPacketLeaf, &occludedSingleLane, &c,
+                             ctx.nodeVisits);
 }
 
 unsigned BvhAccel::intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit* hits,

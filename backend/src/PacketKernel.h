@@ -52,13 +52,14 @@ using PacketSingleFn = unsigned (*)(void* user, std::uint32_t child, unsigned la
 /// Walks the subtree (rootChild, rootCount) of a BVH4 with the lanes in `lanes`: inner node
 /// rootChild when rootCount is 0, else the leaf of rootCount primitives at rootChild; (0, 0) is
 /// the whole tree, whose root is nodes[0]. Closest hit (anyHit false): returns 0; the answer is
-/// what the leaf callbacks recorded. Any hit: returns the lanes found occluded. Every lane visits
+/// what the leaf callbacks recorded. Any hit: returns the lanes found occluded, visiting the
+/// children hit in `anyHitOrder` (by the entry of the lowest lane entering each). Every lane visits
 /// exactly the leaves whose widened box interval meets [tnear, tfar] at the time, with the
 /// single-ray box test's arithmetic, so a lane finds what the single-ray walk finds.
 using PacketTraverseFn = unsigned (*)(const Bvh4Node* nodes, std::uint32_t rootChild,
                                       std::uint32_t rootCount, PacketBoxRays& rays, unsigned lanes,
-                                      bool anyHit, PacketLeafFn leaf, PacketSingleFn single,
-                                      void* user, std::uint64_t& nodeVisits);
+                                      bool anyHit, AnyHitOrder anyHitOrder, PacketLeafFn leaf,
+                                      PacketSingleFn single, void* user, std::uint64_t& nodeVisits);
 
 /// The lanes of a packet as the watertight triangle test sees them, for lanes that share the
 /// axis permutation (kx, ky, kz) of WatertightRay.

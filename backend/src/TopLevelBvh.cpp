@@ -261,12 +261,16 @@ bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
     return true;
   }
   InstanceEntry enter(ray);
-  return traverseBvh4<true>(bvh_.nodes, ray.origin, ray.direction, ray.tnear, ray.tfar,
-                            ctx.nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
-                              for (std::uint32_t k = first; k < first + count; ++k)
-                                if (occludedRef(refs_[k], enter, ray, ctx)) return true;
-                              return false;
-                            });
+  // Farthest entry first: shadow rays meet their blockers mostly around their light. The walk
+  // is given its box ray directly: called through traverseBvh4, GCC kept it out of line here,
+  // and these rays from outside the kitchen took 10% longer.
+  return traverseBvh4From<true, AnyHitOrder::FarthestFirst>(
+      bvh_.nodes, 0, 0, Bvh4Ray(ray.origin, ray.direction, ray.tnear), ray.tfar, ctx.nodeVisits,
+      [&](std::uint32_t first, std::uint32_t count) {
+        for (std::uint32_t k = first; k < first + count; ++k)
+          if (occludedRef(refs_[k], enter, ray, ctx)) return true;
+        return false;
+      });
 }
 
 namespace {
@@ -500,14 +504,14 @@ struct TopLevelPacketWalk {
     auto& w = *static_cast<TopLevelPacketWalk*>(user);
     const Ray& ray = w.rays[lane];
     InstanceEntry enter(ray);
-    return traverseBvh4From<true>(w.top->bvh_.nodes, child, 0, ray.origin, ray.direction, ray.tnear,
-                                  ray.tfar, w.ctx->nodeVisits,
-                                  [&](std::uint32_t first, std::uint32_t count) {
-                                    for (std::uint32_t k = first; k < first + count; ++k)
-                                      if (w.top->occludedRef(w.top->refs_[k], enter, ray, *w.ctx))
-                                        return true;
-                                    return false;
-                                  })
+    return traverseBvh4From<true, AnyHitOrder::FarthestFirst>(
+               w.top->bvh_.nodes, child, 0, ray.origin, ray.direction, ray.tnear, ray.tfar,
+               w.ctx->nodeVisits,
+               [&](std::uint32_t first, std::uint32_t count) {
+                 for (std::uint32_t k = first; k < first + count; ++k)
+                   if (w.top->occludedRef(w.top->refs_[k], enter, ray, *w.ctx)) return true;
+                 return false;
+               })
                ? 1u
                : 0u;
   }
@@ -539,8 +543,9 @@ struct TopLevelPacketWalk {
         alone |= group;
         continue;
       }
-      found |= kernels.traverse(top->bvh_.nodes.data(), 0, 0, boxRays, group, anyHit, leaf, single,
-                                &walk, ctx.nodeVisits);
+      // Any hits farthest first, as single rays walk the top level (AnyHitOrder).
+      found |= kernels.traverse(top->bvh_.nodes.data(), 0, 0, boxRays, group, anyHit,
+                                AnyHitOrder::FarthestFirst, leaf, single, &walk, ctx.nodeVisits);
     }
     lanes |= alone;
     return found;
