@@ -81,8 +81,8 @@ unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uin
         if (hit[s] == 0) continue;
         int j = n++;
         if (ordered) {
-          // Any-hit packets in slot order need no key: ordering them nearest first as the
-          // single-ray walk does measured no faster for packets of shadow rays. The key is one
+          // Any-hit packets in slot order need no key (nearest first measured no faster for
+          // packets of shadow rays; AnyHitOrder says where farthest first pays). The key is one
           // lane's entry, not the smallest over the lanes: the lanes of a coherent packet enter
           // a box close together, and the horizontal minimum per child hit (a chain of three
           // shuffles and minima) cost more than the order it bought. Interleaved runs from the
