@@ -198,9 +198,13 @@ struct Bvh4Ray {
 };
 
 /// Tests the four child boxes of `node` against [ray.tnear, tfar]. Returns a 4-bit mask of the
-/// slots hit and writes each hit slot's (widened) entry distance into `entry`.
-inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, float tfar,
-                                  float entry[4]) {
+/// slots hit and writes each hit slot's (widened) entry distance into `entry` and, WithExit,
+/// its (widened) exit distance, at most tfar widened, into `exit`. (A template rather than a
+/// run-time choice: with an exit pointer to test, GCC stopped inlining the triangle tests into
+/// the object BVH's any-hit leaves.)
+template <bool WithExit>
+inline unsigned intersectBvh4NodeWith(const Bvh4Node& node, const Bvh4Ray& ray, float tfar,
+                                      float entry[4], float exit[4]) {
 #if TG_BVH4_SSE
   __m128 tmin = _mm_set1_ps(ray.tnear), tmax = _mm_set1_ps(tfar);
   for (int a = 0; a < 3; ++a) {
@@ -231,6 +235,7 @@ inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, floa
     tmax = _mm_add_ps(tmax, _mm_mul_ps(_mm_and_ps(tmax, absMask), slack));
   }
   _mm_storeu_ps(entry, tmin);
+  if constexpr (WithExit) _mm_storeu_ps(exit, tmax);
   return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(tmin, tmax)));
 #else
   unsigned mask = 0;
@@ -246,10 +251,17 @@ inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, floa
     tmin -= (tmin < 0.0f ? -tmin : tmin) * kBvhIntervalSlack;
     tmax += (tmax < 0.0f ? -tmax : tmax) * kBvhIntervalSlack;
     entry[s] = tmin;
+    if constexpr (WithExit) exit[s] = tmax;
     if (tmin <= tmax) mask |= 1u << s;
   }
   return mask;
 #endif
+}
+
+/// intersectBvh4NodeWith without the exit distances.
+inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, float tfar,
+                                  float entry[4]) {
+  return intersectBvh4NodeWith<false>(node, ray, tfar, entry, nullptr);
 }
 
 /// The order in which an any-hit walk visits the children a ray hits (the answer is the same
@@ -260,14 +272,17 @@ enum class AnyHitOrder {
   /// scene walked 7.9 (kitchen) and 10.8 (robots) nodes nearest first and 7.9 and 9.8 in slot
   /// order, 6% and 20% faster; from outside the scenes the two orders were within 3%.
   Slots,
-  /// Farthest entry first: the walk starts at the end of the ray's segment. For the top level
-  /// over whole objects, where a shadow ray's segment ends at its light: lamps sit in fittings
-  /// and shades, which block most of the rays that are blocked, while the space just above the
-  /// shaded point is open. Unhinted shadow rays, one thread, against slot order (time per ray as
-  /// a share of Embree's in the same runs): kitchen from its camera 2.0 -> 1.05, from outside
-  /// 0.98 -> 0.66; museum 1.51 -> 1.09 and 1.12 -> 0.98; robots 1.82 -> 1.83 and 0.79 -> 0.81,
-  /// whose blockers stand near the shaded points. In the objects as well, the kitchen gained
-  /// less (1.10) and the robots lost 7%.
+  /// Farthest first: the walk starts at the end of the ray's segment, taking first the child
+  /// whose stretch of the segment has the farthest middle (entry + exit, the exit at most the
+  /// segment's end; slot order on ties). For the top level over whole objects, where a
+  /// shadow ray's segment ends at its light: lamps sit in fittings and shades, and ceilings and
+  /// walls close rooms, which block most of the rays that are blocked, while the space just
+  /// above the shaded point is open. Unhinted shadow rays, one thread, against slot order (time
+  /// per ray as a share of Embree's in the same runs): kitchen from its camera 2.0 -> 1.05, from
+  /// outside 0.98 -> 0.66; museum 1.51 -> 1.09 and 1.12 -> 0.98 (by the entry alone). By the
+  /// entry alone the robots' camera rays, all blocked by large static chunks whose boxes they
+  /// enter early, walked 9.0 nodes each as in slot order; by the middle 3.9. In the objects
+  /// as well, the kitchen gained less (1.10) and the robots lost 7%.
   FarthestFirst,
 };
 
@@ -299,24 +314,31 @@ bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::
       ++nodeVisits;
       const Bvh4Node& node = nodes[current.child];
       float entry[4];
-      unsigned mask = intersectBvh4Node(node, ray, tfar, entry);
       if constexpr (AnyHit && Order == AnyHitOrder::FarthestFirst) {
+        float exit[4];
+        const unsigned mask = intersectBvh4NodeWith<true>(node, ray, tfar, entry, exit);
         if (mask != 0) {
-          // Farthest entry first; slot order among equal entries.
+          // Farthest middle first (slot order on ties).
           Entry hits[4];
+          float middle[4];
           int n = 0;
           for (int s = 0; s < 4; ++s) {
             if (!(mask & (1u << s))) continue;
-            Entry e{node.child[s], node.count[s], entry[s]};
+            const float m = entry[s] + exit[s];
             int k = n++;
-            for (; k > 0 && hits[k - 1].tmin < e.tmin; --k) hits[k] = hits[k - 1];
-            hits[k] = e;
+            for (; k > 0 && middle[k - 1] < m; --k) {
+              hits[k] = hits[k - 1];
+              middle[k] = middle[k - 1];
+            }
+            hits[k] = Entry{node.child[s], node.count[s], entry[s]};
+            middle[k] = m;
           }
           for (int k = n - 1; k > 0; --k) stack[stackSize++] = hits[k];
           current = hits[0];
           continue;
         }
       } else if constexpr (AnyHit) {
+        const unsigned mask = intersectBvh4Node(node, ray, tfar, entry);
         // Any hit ends the walk, so the order only decides how soon one is found (see
         // AnyHitOrder::Slots).
         if (mask != 0) {
@@ -330,7 +352,7 @@ bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::
           current = Entry{node.child[next], node.count[next], entry[next]};
           continue;
         }
-      } else if (mask != 0) {
+      } else if (const unsigned mask = intersectBvh4Node(node, ray, tfar, entry); mask != 0) {
         // Gather the children hit and order them by entry distance (slot order on ties, so the
         // walk never depends on anything but the tree and the ray).
         Entry hits[4];

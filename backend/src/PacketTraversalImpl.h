@@ -44,7 +44,9 @@ unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uin
                         PacketLeafFn leaf, PacketSingleFn single, void* user,
                         std::uint64_t& nodeVisits) {
   // Children are ordered by one lane's entry: ascending for closest hits, descending (negated
-  // keys) for any hits farthest first, not at all for any hits in slot order.
+  // keys) for any hits farthest first (by the entry alone: the node tests give no exits; the
+  // single-ray walk also weighs the exit, see AnyHitOrder), not at all for any hits in slot
+  // order.
   const bool ordered = !anyHit || anyHitOrder == AnyHitOrder::FarthestFirst;
   const bool descending = anyHit;
   struct Entry {
