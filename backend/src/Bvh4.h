@@ -199,12 +199,12 @@ struct Bvh4Ray {
 
 /// Tests the four child boxes of `node` against [ray.tnear, tfar]. Returns a 4-bit mask of the
 /// slots hit and writes each hit slot's (widened) entry distance into `entry` and, WithExit,
-/// its (widened) exit distance, at most tfar widened, into `exit`. (A template rather than a
-/// run-time choice: with an exit pointer to test, GCC stopped inlining the triangle tests into
-/// the object BVH's any-hit leaves.)
+/// its (widened) exit distance, at most tfar widened, into `exitDist`. (A template rather than
+/// a run-time choice: with an exit pointer to test, GCC stopped inlining the triangle tests
+/// into the object BVH's any-hit leaves.)
 template <bool WithExit>
 inline unsigned intersectBvh4NodeWith(const Bvh4Node& node, const Bvh4Ray& ray, float tfar,
-                                      float entry[4], float exit[4]) {
+                                      float entry[4], float exitDist[4]) {
 #if TG_BVH4_SSE
   __m128 tmin = _mm_set1_ps(ray.tnear), tmax = _mm_set1_ps(tfar);
   for (int a = 0; a < 3; ++a) {
@@ -235,7 +235,7 @@ inline unsigned intersectBvh4NodeWith(const Bvh4Node& node, const Bvh4Ray& ray, 
     tmax = _mm_add_ps(tmax, _mm_mul_ps(_mm_and_ps(tmax, absMask), slack));
   }
   _mm_storeu_ps(entry, tmin);
-  if constexpr (WithExit) _mm_storeu_ps(exit, tmax);
+  if constexpr (WithExit) _mm_storeu_ps(exitDist, tmax);
   return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(tmin, tmax)));
 #else
   unsigned mask = 0;
@@ -251,7 +251,7 @@ inline unsigned intersectBvh4NodeWith(const Bvh4Node& node, const Bvh4Ray& ray, 
     tmin -= (tmin < 0.0f ? -tmin : tmin) * kBvhIntervalSlack;
     tmax += (tmax < 0.0f ? -tmax : tmax) * kBvhIntervalSlack;
     entry[s] = tmin;
-    if constexpr (WithExit) exit[s] = tmax;
+    if constexpr (WithExit) exitDist[s] = tmax;
     if (tmin <= tmax) mask |= 1u << s;
   }
   return mask;
@@ -278,11 +278,12 @@ enum class AnyHitOrder {
   /// shadow ray's segment ends at its light: lamps sit in fittings and shades, and ceilings and
   /// walls close rooms, which block most of the rays that are blocked, while the space just
   /// above the shaded point is open. Unhinted shadow rays, one thread, against slot order (time
-  /// per ray as a share of Embree's in the same runs): kitchen from its camera 2.0 -> 1.05, from
-  /// outside 0.98 -> 0.66; museum 1.51 -> 1.09 and 1.12 -> 0.98 (by the entry alone). By the
-  /// entry alone the robots' camera rays, all blocked by large static chunks whose boxes they
-  /// enter early, walked 9.0 nodes each as in slot order; by the middle 3.9. In the objects
-  /// as well, the kitchen gained less (1.10) and the robots lost 7%.
+  /// per ray as a share of Embree's in the same runs): kitchen from its camera 1.96 -> 1.02,
+  /// from outside 0.98 -> 0.67; robots 1.82 -> 1.02 and 0.80 -> 0.79; museum 1.50 -> 1.12 and
+  /// 1.12 -> 0.99. By the entry alone the robots' camera rays, all blocked by large static
+  /// chunks whose boxes they enter early, walked 9.0 nodes each as in slot order (3.9 by the
+  /// middle). In the objects as well, the museum gained 4-6% and the sphereflake (one object)
+  /// lost 3-5%.
   FarthestFirst,
 };
 
@@ -315,8 +316,8 @@ bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::
       const Bvh4Node& node = nodes[current.child];
       float entry[4];
       if constexpr (AnyHit && Order == AnyHitOrder::FarthestFirst) {
-        float exit[4];
-        const unsigned mask = intersectBvh4NodeWith<true>(node, ray, tfar, entry, exit);
+        float exitDist[4];
+        const unsigned mask = intersectBvh4NodeWith<true>(node, ray, tfar, entry, exitDist);
         if (mask != 0) {
           // Farthest middle first (slot order on ties).
           Entry hits[4];
@@ -324,7 +325,7 @@ bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::
           int n = 0;
           for (int s = 0; s < 4; ++s) {
             if (!(mask & (1u << s))) continue;
-            const float m = entry[s] + exit[s];
+            const float m = entry[s] + exitDist[s];
             int k = n++;
             for (; k > 0 && middle[k - 1] < m; --k) {
               hits[k] = hits[k - 1];
