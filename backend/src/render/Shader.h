@@ -79,7 +79,6 @@ struct SecondaryRays {
   float refractWeight = 0.0f;  ///< multiplies the refracted colour
   Ray reflection, refraction;  ///< valid when reflects / refracts
   float reflectionPathWeight = 0.0f, refractionPathWeight = 0.0f;  ///< for the ray-weight cutoff
-  float coneWidth = 0.0f;  ///< width of both rays' cones where they start (the hit's)
   bool reflects = false, refracts = false;
 };
 

@@ -743,10 +743,10 @@ Vec3f Shader::addSecondary(SurfaceShading& sh, int depth, float weight, Traversa
                            TileCounters& counters) const {
   const SecondaryRays s = planSecondary(sh, depth, weight, counters);
   const Vec3f reflected = s.reflects ? trace(s.reflection, depth + 1, s.reflectionPathWeight,
-                                             s.coneWidth, ctx, counters)
+                                             sh.coneWidth, ctx, counters)
                                      : Vec3f{};
   const Vec3f refracted = s.refracts ? trace(s.refraction, depth + 1, s.refractionPathWeight,
-                                             s.coneWidth, ctx, counters)
+                                             sh.coneWidth, ctx, counters)
                                      : Vec3f{};
   return combineSecondary(sh.color, s, reflected, refracted);
 }
@@ -759,7 +759,6 @@ SecondaryRays Shader::planSecondary(SurfaceShading& sh, int depth, float weight,
   const Vec3f& ng = sh.ng;
   const bool backFace = sh.backFace;
   SecondaryRays out;
-  out.coneWidth = sh.coneWidth;
   // Glass splits its transmittance T between reflection and refraction by Fresnel; the mirror
   // part (specular) adds to the reflection, traced as one ray.
   Vec3f reflectWeight = m.specular;

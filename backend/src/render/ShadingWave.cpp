@@ -129,14 +129,14 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
       level.reflectionChild[k] = static_cast<std::uint32_t>(next.rays.size());
       next.rays.push_back(level.secondary[k].reflection);
       next.weight.push_back(level.secondary[k].reflectionPathWeight);
-      next.cone.push_back(level.secondary[k].coneWidth);
+      next.cone.push_back(level.shading[k]->coneWidth);
     }
   for (std::size_t k = 0; k < n; ++k)
     if (level.shading[k] && level.secondary[k].refracts) {
       level.refractionChild[k] = static_cast<std::uint32_t>(next.rays.size());
       next.rays.push_back(level.secondary[k].refraction);
       next.weight.push_back(level.secondary[k].refractionPathWeight);
-      next.cone.push_back(level.secondary[k].coneWidth);
+      next.cone.push_back(level.shading[k]->coneWidth);
     }
 }
 
