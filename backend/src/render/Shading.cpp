@@ -618,13 +618,15 @@ SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::Surf
   sh.backFace = dot(sd.geometricNormal, ray.direction) > 0.0f;
   sh.ng = sh.backFace ? -sd.geometricNormal : sd.geometricNormal;
   sh.ns = sh.backFace ? -sd.shadingNormal : sd.shadingNormal;
-  sh.dir = normalize(ray.direction);
+  // normalize() divides by this length; the cone below needs it too.
+  const float directionLength = length(ray.direction);
+  sh.dir = ray.direction / directionLength;
   sh.v = -sh.dir;
   const bool mipMapped = settings_.textureFilter == TextureFilter::Trilinear;
   // The cone starts `cone` wide (a primary ray's at the eye: 0) and spreads by one pixel's
   // angle: reflection and refraction keep the spread, as a flat surface would (Ray Tracing
   // Gems' cones add the surface's curvature; flat is what BART's polygons are).
-  if (mipMapped) sh.coneWidth = cone + hit.t * length(ray.direction) * pixelSpread_;
+  if (mipMapped) sh.coneWidth = cone + hit.t * directionLength * pixelSpread_;
   const Material& m = sh.material;
   sh.diffuse = m.diffuse;
   Vec3f ambient = m.ambient;
