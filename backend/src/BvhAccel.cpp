@@ -366,15 +366,26 @@ Bvh4Ray boxRayOf(const ObjectRay& ray) {
 
 bool BvhAccel::intersectSubtree(ObjectRay& ray, Hit& hit, std::uint32_t child,
                                 std::uint32_t leafCount, TraversalContext& ctx) const {
-  return traverseBvh4From<false>(nodes_, child, leafCount, boxRayOf(ray), ray.tfar, ctx.nodeVisits,
+  return intersectSubtree(ray, boxRayOf(ray), hit, child, leafCount, ctx);
+}
+
+bool BvhAccel::occludedSubtree(const ObjectRay& ray, std::uint32_t child, std::uint32_t leafCount,
+                               TraversalContext& ctx) const {
+  return occludedSubtree(ray, boxRayOf(ray), child, leafCount, ctx);
+}
+
+bool BvhAccel::intersectSubtree(ObjectRay& ray, const Bvh4Ray& boxRay, Hit& hit,
+                                std::uint32_t child, std::uint32_t leafCount,
+                                TraversalContext& ctx) const {
+  return traverseBvh4From<false>(nodes_, child, leafCount, boxRay, ray.tfar, ctx.nodeVisits,
                                  [&](std::uint32_t first, std::uint32_t count) {
                                    return intersectLeaf(ray, hit, first, count, ctx);
                                  });
 }
 
-bool BvhAccel::occludedSubtree(const ObjectRay& ray, std::uint32_t child, std::uint32_t leafCount,
-                               TraversalContext& ctx) const {
-  return traverseBvh4From<true>(nodes_, child, leafCount, boxRayOf(ray), ray.tfar, ctx.nodeVisits,
+bool BvhAccel::occludedSubtree(const ObjectRay& ray, const Bvh4Ray& boxRay, std::uint32_t child,
+                               std::uint32_t leafCount, TraversalContext& ctx) const {
+  return traverseBvh4From<true>(nodes_, child, leafCount, boxRay, ray.tfar, ctx.nodeVisits,
                                 [&](std::uint32_t first, std::uint32_t count) {
                                   return occludedLeaf(ray, first, count, ctx);
                                 });

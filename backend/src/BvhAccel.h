@@ -117,6 +117,13 @@ class BvhAccel final : public ObjectAccel {
   /// Any hit of one ray in the subtree (child, count).
   bool occludedSubtree(const ObjectRay& ray, std::uint32_t child, std::uint32_t count,
                        TraversalContext& ctx) const;
+  /// intersectSubtree with the box-test constants of `ray` already made (`boxRay`, equal to
+  /// what the ray's own would be: for an identity instance, the world ray's).
+  bool intersectSubtree(ObjectRay& ray, const Bvh4Ray& boxRay, Hit& hit, std::uint32_t child,
+                        std::uint32_t count, TraversalContext& ctx) const;
+  /// occludedSubtree with the box-test constants of `ray` already made.
+  bool occludedSubtree(const ObjectRay& ray, const Bvh4Ray& boxRay, std::uint32_t child,
+                       std::uint32_t count, TraversalContext& ctx) const;
   /// Closest-hit test of one ray against triangle `k` (leaf order), with the same answers as
   /// intersectLeaf's step (which reads the ray's axis permutation as constants): the packet
   /// leaves' test for lanes the SIMD test does not decide.

@@ -188,23 +188,25 @@ void TopLevelBvh::openIdentityInstances() {
   prims_.swap(openedPrims_);
 }
 
-bool TopLevelBvh::intersectRef(const Ref& ref, InstanceEntry& enter, const Ray& ray, Hit& hit,
-                               TraversalContext& ctx) const {
+bool TopLevelBvh::intersectRef(const Ref& ref, InstanceEntry& enter, const Ray& ray,
+                               const Bvh4Ray& box, Hit& hit, TraversalContext& ctx) const {
   const InstanceRecord& inst = instances_[ref.instance];
   if (ref.child == kInvalidId) return enter.intersect(inst, hit, ctx);
+  // An identity instance's object ray is the world ray: its box-test constants are `box`'s
+  // (Bvh4Ray from the same origin, direction, reciprocals and tnear), not made again per entry.
   ObjectRay& objectRay = enter.identityRay(inst, hit.t < ray.tfar ? hit.t : ray.tfar);
   return static_cast<const BvhAccel&>(*inst.accel)
-      .intersectSubtree(objectRay, hit, ref.child, ref.count, ctx);
+      .intersectSubtree(objectRay, box, hit, ref.child, ref.count, ctx);
 }
 
 bool TopLevelBvh::occludedRef(const Ref& ref, InstanceEntry& enter, const Ray& ray,
-                              TraversalContext& ctx) const {
+                              const Bvh4Ray& box, TraversalContext& ctx) const {
   const InstanceRecord& inst = instances_[ref.instance];
   const bool blocked =
       ref.child == kInvalidId
           ? enter.occluded(inst, ctx)
           : static_cast<const BvhAccel&>(*inst.accel)
-                .occludedSubtree(enter.identityRay(inst, ray.tfar), ref.child, ref.count, ctx);
+                .occludedSubtree(enter.identityRay(inst, ray.tfar), box, ref.child, ref.count, ctx);
   if (blocked) rememberOccluder(ref.instance, ctx);
   return blocked;
 }
@@ -214,17 +216,18 @@ bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) con
     return intersectInstance(instances_[soleIdentity_], ray, hit, ctx);
   float tfar = std::min(ray.tfar, hit.t);
   InstanceEntry enter(ray);
-  return traverseBvh4<false>(bvh_.nodes, ray.origin, ray.direction, ray.tnear, tfar, ctx.nodeVisits,
-                             [&](std::uint32_t first, std::uint32_t count) {
-                               bool found = false;
-                               for (std::uint32_t k = first; k < first + count; ++k) {
-                                 if (intersectRef(refs_[k], enter, ray, hit, ctx)) {
-                                   tfar = std::min(tfar, hit.t);
-                                   found = true;
-                                 }
-                               }
-                               return found;
-                             });
+  const Bvh4Ray box(ray.origin, ray.direction, ray.tnear);
+  return traverseBvh4From<false>(bvh_.nodes, 0, 0, box, tfar, ctx.nodeVisits,
+                                 [&](std::uint32_t first, std::uint32_t count) {
+                                   bool found = false;
+                                   for (std::uint32_t k = first; k < first + count; ++k) {
+                                     if (intersectRef(refs_[k], enter, ray, box, hit, ctx)) {
+                                       tfar = std::min(tfar, hit.t);
+                                       found = true;
+                                     }
+                                   }
+                                   return found;
+                                 });
 }
 
 bool TopLevelBvh::occludedByHint(const Ray& ray, TraversalContext& ctx) const {
@@ -264,11 +267,12 @@ bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
   // Farthest entry first: shadow rays meet their blockers mostly around their light. The walk
   // is given its box ray directly: called through traverseBvh4, GCC kept it out of line here,
   // and these rays from outside the kitchen took 10% longer.
+  const Bvh4Ray box(ray.origin, ray.direction, ray.tnear);
   return traverseBvh4From<true, AnyHitOrder::FarthestFirst>(
-      bvh_.nodes, 0, 0, Bvh4Ray(ray.origin, ray.direction, ray.tnear), ray.tfar, ctx.nodeVisits,
+      bvh_.nodes, 0, 0, box, ray.tfar, ctx.nodeVisits,
       [&](std::uint32_t first, std::uint32_t count) {
         for (std::uint32_t k = first; k < first + count; ++k)
-          if (occludedRef(refs_[k], enter, ray, ctx)) return true;
+          if (occludedRef(refs_[k], enter, ray, box, ctx)) return true;
         return false;
       });
 }
@@ -485,17 +489,19 @@ struct TopLevelPacketWalk {
     Hit& hit = w.hits[lane];
     float tfar = boxRays.tfar[lane];
     InstanceEntry enter(ray);
-    traverseBvh4From<false>(w.top->bvh_.nodes, child, 0, ray.origin, ray.direction, ray.tnear, tfar,
-                            w.ctx->nodeVisits, [&](std::uint32_t first, std::uint32_t count) {
-                              bool found = false;
-                              for (std::uint32_t k = first; k < first + count; ++k) {
-                                if (w.top->intersectRef(w.top->refs_[k], enter, ray, hit, *w.ctx)) {
-                                  tfar = std::min(tfar, hit.t);
-                                  found = true;
-                                }
-                              }
-                              return found;
-                            });
+    const Bvh4Ray box(ray.origin, ray.direction, ray.tnear);
+    traverseBvh4From<false>(
+        w.top->bvh_.nodes, child, 0, box, tfar, w.ctx->nodeVisits,
+        [&](std::uint32_t first, std::uint32_t count) {
+          bool found = false;
+          for (std::uint32_t k = first; k < first + count; ++k) {
+            if (w.top->intersectRef(w.top->refs_[k], enter, ray, box, hit, *w.ctx)) {
+              tfar = std::min(tfar, hit.t);
+              found = true;
+            }
+          }
+          return found;
+        });
     boxRays.tfar[lane] = tfar;
     return 0;
   }
@@ -504,15 +510,12 @@ struct TopLevelPacketWalk {
     auto& w = *static_cast<TopLevelPacketWalk*>(user);
     const Ray& ray = w.rays[lane];
     InstanceEntry enter(ray);
-    // Through the origin/direction overload, unlike TopLevelBvh::occluded: given the box ray
-    // directly here, the kitchen's shadow packets from its camera took about 3% longer
-    // (alternating processes; GCC's inlining again).
+    const Bvh4Ray box(ray.origin, ray.direction, ray.tnear);
     return traverseBvh4From<true, AnyHitOrder::FarthestFirst>(
-               w.top->bvh_.nodes, child, 0, ray.origin, ray.direction, ray.tnear, ray.tfar,
-               w.ctx->nodeVisits,
+               w.top->bvh_.nodes, child, 0, box, ray.tfar, w.ctx->nodeVisits,
                [&](std::uint32_t first, std::uint32_t count) {
                  for (std::uint32_t k = first; k < first + count; ++k)
-                   if (w.top->occludedRef(w.top->refs_[k], enter, ray, *w.ctx)) return true;
+                   if (w.top->occludedRef(w.top->refs_[k], enter, ray, box, *w.ctx)) return true;
                  return false;
                })
                ? 1u

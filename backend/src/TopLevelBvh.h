@@ -65,11 +65,12 @@ class TopLevelBvh final : public TopLevelAccel {
       return child == kInvalidId ? BvhSubtree{} : BvhSubtree{{}, child, count};
     }
   };
-  /// Closest hit of `ray` (which `enter` enters instances with) in what `ref` names.
-  bool intersectRef(const Ref& ref, InstanceEntry& enter, const Ray& ray, Hit& hit,
-                    TraversalContext& ctx) const;
+  /// Closest hit of `ray` (which `enter` enters instances with) in what `ref` names; `box` is
+  /// the world ray's box-test constants, which subtrees of identity instances walk with.
+  bool intersectRef(const Ref& ref, InstanceEntry& enter, const Ray& ray, const Bvh4Ray& box,
+                    Hit& hit, TraversalContext& ctx) const;
   /// Any hit of `ray` in what `ref` names; records the occluder (rememberOccluder).
-  bool occludedRef(const Ref& ref, InstanceEntry& enter, const Ray& ray,
+  bool occludedRef(const Ref& ref, InstanceEntry& enter, const Ray& ray, const Bvh4Ray& box,
                    TraversalContext& ctx) const;
   /// Replaces the primitives of identity instances of BvhAccels by subtrees, widest first,
   /// within kOpenedEntriesPerInstance entries per primitive, and fills opened_: the
