@@ -85,7 +85,11 @@ void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
   soleIdentity_ = kInvalidId;
   if (prims_.size() == 1) {
     const InstanceRecord& inst = instances_[prims_[0].id];
-    if (inst.identity && isBvhAccel(*inst.accel)) soleIdentity_ = prims_[0].id;
+    if (inst.identity && isBvhAccel(*inst.accel)) {
+      soleIdentity_ = prims_[0].id;
+      soleBounds_ = Bvh4Node::makeEmpty();
+      soleBounds_.setBounds(0, inst.accel->bounds());
+    }
   }
   if (prims_.size() <= kOpenMaxInstances) openIdentityInstances();
   TopLevelBuildOptions options;
@@ -212,8 +216,23 @@ bool TopLevelBvh::occludedRef(const Ref& ref, InstanceEntry& enter, const Ray& r
 }
 
 bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const {
-  if (soleIdentity_ != kInvalidId)
-    return intersectInstance(instances_[soleIdentity_], ray, hit, ctx);
+  if (soleIdentity_ != kInvalidId) {
+    // intersectInstance without the virtual call: the accelerator is a BvhAccel (build()).
+    const InstanceRecord& inst = instances_[soleIdentity_];
+    const float tfar = hit.t < ray.tfar ? hit.t : ray.tfar;
+    const Bvh4Ray box(ray.origin, ray.direction, ray.tnear);
+    // Its bounds first: from outside a scene most rays miss them, and then need neither the
+    // object ray's shear constants nor a walk (the flattened BART kitchen from outside traced
+    // 15% faster, from its camera 2-4% slower). Counted as the visit of the root it stands for.
+    float entry[4];
+    if (!(intersectBvh4Node(soleBounds_, box, tfar, entry) & 1u)) {
+      ++ctx.nodeVisits;
+      return false;
+    }
+    ObjectRay objectRay = objectRayFor(inst, ray, tfar);
+    return static_cast<const BvhAccel&>(*inst.accel)
+        .intersectSubtree(objectRay, box, hit, 0, 0, ctx);
+  }
   float tfar = std::min(ray.tfar, hit.t);
   InstanceEntry enter(ray);
   const Bvh4Ray box(ray.origin, ray.direction, ray.tnear);
@@ -259,7 +278,10 @@ bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
   // The hint's triangle first: true only where the walk would find the ray occluded as well.
   if (occludedByHint(ray, ctx)) return true;
   if (soleIdentity_ != kInvalidId) {
-    if (!occludedInstance(instances_[soleIdentity_], ray, ctx)) return false;
+    const InstanceRecord& inst = instances_[soleIdentity_];
+    if (!static_cast<const BvhAccel&>(*inst.accel)
+             .occludedSubtree(objectRayFor(inst, ray, ray.tfar), 0, 0, ctx))
+      return false;
     rememberOccluder(soleIdentity_, ctx);
     return true;
   }

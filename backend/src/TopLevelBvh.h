@@ -83,6 +83,9 @@ class TopLevelBvh final : public TopLevelAccel {
   /// walk and a second set of box-test constants per ray for nothing (6% of a flattened BART
   /// kitchen's single-ray trace).
   std::uint32_t soleIdentity_ = kInvalidId;
+  /// The sole identity instance's bounds in slot 0 (the other slots empty): rays that miss them
+  /// leave before any object-ray set-up.
+  Bvh4Node soleBounds_ = Bvh4Node::makeEmpty();
   std::vector<Ref> refs_;     ///< leaf order
   std::vector<Ref> opened_;   ///< build scratch: what the primitives' ids name
   BvhPrimArray prims_;        ///< build scratch
