@@ -221,7 +221,7 @@ bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) con
     const InstanceRecord& inst = instances_[soleIdentity_];
     const float tfar = hit.t < ray.tfar ? hit.t : ray.tfar;
     const Bvh4Ray box(ray.origin, ray.direction, ray.tnear);
-    // Its bounds first: from outside a scene most rays miss them, and then need neither the
+    // Its bounds first: from outside a scene many rays miss them, and then need neither the
     // object ray's shear constants nor a walk (the flattened BART kitchen from outside traced
     // 15% faster, from its camera 2-4% slower). Counted as the visit of the root it stands for.
     float entry[4];
