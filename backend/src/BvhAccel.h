@@ -140,7 +140,7 @@ class BvhAccel final : public ObjectAccel {
   /// one and a half triangle tests. Against 1.0, the flattened kitchen's two-thread build took
   /// 0.944-0.971 of Embree MEDIUM's time instead of 0.954-1.011 (fewer, fuller leaves) and traced
   /// at 0.983-1.012 of its speed instead of 0.960-1.013; primary rays from the BART files'
-  /// cameras and from outside within noise. 2.0 traced the kitchen from its camera 4-6% slower.
+  /// cameras and from outside within noise. 2.0 traced the kitchen from its camera 5-7% slower.
   static constexpr double kTraversalCost = 1.5;
   static constexpr double kIntersectionCost = 1.0;
 
