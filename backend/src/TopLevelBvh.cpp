@@ -278,10 +278,7 @@ bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
   // The hint's triangle first: true only where the walk would find the ray occluded as well.
   if (occludedByHint(ray, ctx)) return true;
   if (soleIdentity_ != kInvalidId) {
-    const InstanceRecord& inst = instances_[soleIdentity_];
-    if (!static_cast<const BvhAccel&>(*inst.accel)
-             .occludedSubtree(objectRayFor(inst, ray, ray.tfar), 0, 0, ctx))
-      return false;
+    if (!occludedInstance(instances_[soleIdentity_], ray, ctx)) return false;
     rememberOccluder(soleIdentity_, ctx);
     return true;
   }
