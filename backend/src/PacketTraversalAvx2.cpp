@@ -8,6 +8,7 @@
 
 #include "PacketLanesAvx.h"
 #include "PacketTraversalImpl.h"
+#include "SlabWidening8.h"
 
 namespace tg::detail {
 namespace {
@@ -23,8 +24,6 @@ struct Avx2NodeTest : Avx8LaneOps {
   bool nonNegativeTnear;
   void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
             float entry[4][kPacketLanes]) const {
-    const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
-    const __m256 slack = _mm256_set1_ps(kBvhIntervalSlack);
     const __m256 tnear = _mm256_load_ps(rays.tnear), tfar = _mm256_load_ps(rays.tfar);
     __m256 origin[3], reciprocal[3];
     for (int a = 0; a < 3; ++a) {
@@ -43,13 +42,7 @@ struct Avx2NodeTest : Avx8LaneOps {
         tmin = _mm256_max_ps(n, tmin);
         tmax = _mm256_min_ps(f, tmax);
       }
-      if (nonNegativeTnear) {
-        tmin = _mm256_mul_ps(tmin, _mm256_set1_ps(1.0f - kBvhIntervalSlack));
-        tmax = _mm256_mul_ps(tmax, _mm256_set1_ps(1.0f + kBvhIntervalSlack));
-      } else {
-        tmin = _mm256_sub_ps(tmin, _mm256_mul_ps(_mm256_and_ps(tmin, absMask), slack));
-        tmax = _mm256_add_ps(tmax, _mm256_mul_ps(_mm256_and_ps(tmax, absMask), slack));
-      }
+      widenSlabInterval8(tmin, tmax, nonNegativeTnear);
       _mm256_store_ps(entry[s], tmin);
       hit[s] =
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OS))) & lanes;

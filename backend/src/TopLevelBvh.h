@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "Bvh8Twin.h"
 #include "BvhAccel.h"
 #include "BvhBuilder.h"
 #include "TopLevelBvhBuilder.h"
@@ -54,6 +55,12 @@ class TopLevelBvh final : public TopLevelAccel {
   /// build (or scene) is never taken for one of this.
   std::uint64_t buildId_ = 0;
   BvhBuildResult bvh_;
+  /// Eight-wide twins of bvh_.nodes for closest-hit single rays; empty when they are not used
+  /// (no AVX2, the portable kernels chosen, or a large top level).
+  Bvh8NodeArray twins_;
+  /// The box of the whole top level when twins_ is not empty: rays from inside it walk the
+  /// twins, rays from outside the BVH4.
+  Box3f twinRegion_;
   /// What a leaf entry enters: a whole instance, or one subtree of the BVH of an identity
   /// instance (static geometry), whose box then stands in the top level for its own.
   struct Ref {

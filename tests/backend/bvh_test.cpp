@@ -10,6 +10,7 @@
 
 #include "IntervalChecks.h"
 #include "TestGeometry.h"
+#include "tracegraph/backend/Simd.h"
 
 using namespace tg;
 using namespace tg::test;
@@ -719,4 +720,60 @@ BOOST_AUTO_TEST_CASE(static_trees_hold_the_memory_they_use) {
   const std::size_t used = innerNodes * 128 + s.primReferences * (36 + 4);
   BOOST_TEST(s.bytes >= used);
   BOOST_TEST(s.bytes <= used + innerNodes * 128 / 4);
+}
+
+BOOST_AUTO_TEST_CASE(wide_top_level_walk_gives_the_four_wide_walks_hits) {
+  // The top level is committed once per SIMD kernel set: with AVX2 or AVX-512, rays from inside
+  // it walk its eight-wide twins (Bvh8Walk.h); with the portable kernels, the BVH4. Every
+  // answer must be the same bits, and the wide walk must actually run (fewer node visits).
+  const SimdIsa saved = activeSimdIsa();
+  std::mt19937 rng(404);
+  const TriangleMesh flat = makeRandomTriangles(rng, 600, -12.0f, 12.0f, 1.5f);
+  std::vector<TriangleMesh> parts;
+  for (int o = 0; o < 4; ++o) parts.push_back(makeRandomTriangles(rng, 80, -2.0f, 2.0f, 0.8f));
+  std::vector<Affine3d> placements;
+  for (int i = 0; i < 60; ++i) placements.push_back(randomTransform(rng, 12.0, true));
+  std::vector<std::vector<Hit>> answers;
+  std::vector<std::uint64_t> visits;
+  std::vector<Ray> rays;
+  for (SimdIsa isa : supportedSimdIsas()) {
+    BOOST_REQUIRE(setSimdIsa(isa));
+    Scene scene(optionsFor(AccelKind::Bvh));
+    scene.createInstance(scene.createObject(flat));
+    std::vector<ObjectId> ids;
+    for (const TriangleMesh& part : parts)
+      ids.push_back(scene.createObject(part, ObjectUsage::Rigid));
+    for (std::size_t i = 0; i < placements.size(); ++i)
+      scene.createInstance(ids[i % ids.size()], placements[i]);
+    scene.commit();
+    if (rays.empty()) {
+      // Origins inside the scene (the wide walk's rays) and around it (the four-wide walk's).
+      rays = makeRays(rng, scene.bounds(), 4000);
+      std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+      const Vec3f c = scene.bounds().center(), e = scene.bounds().extent();
+      for (int i = 0; i < 4000; ++i) {
+        Ray r;
+        r.origin = c + Vec3f{u(rng) * e.x, u(rng) * e.y, u(rng) * e.z} * 0.45f;
+        r.direction = {u(rng), u(rng), u(rng)};
+        rays.push_back(r);
+      }
+    }
+    TraversalContext ctx;
+    std::vector<Hit>& hits = answers.emplace_back(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) scene.intersect(rays[i], hits[i], ctx);
+    visits.push_back(ctx.nodeVisits);
+    if (isa == SimdIsa::Portable) checkScene(scene, rays, "portable top level", 200);
+  }
+  setSimdIsa(saved);
+  std::size_t found = 0;
+  for (const Hit& h : answers.front()) found += h.valid() ? 1 : 0;
+  BOOST_TEST(found > rays.size() / 4);
+  for (std::size_t k = 1; k < answers.size(); ++k) {
+    std::size_t mismatches = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i)
+      mismatches += sameHitBits(answers[k][i], answers[0][i]) ? 0 : 1;
+    BOOST_TEST(mismatches == 0u, "kernel set " << k << " differs on " << mismatches << " rays");
+    BOOST_TEST(visits[k] < visits[0], "kernel set " << k << ": " << visits[k] << " node visits, "
+                                                    << "portable " << visits[0]);
+  }
 }
