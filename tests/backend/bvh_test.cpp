@@ -726,7 +726,10 @@ BOOST_AUTO_TEST_CASE(wide_top_level_walk_gives_the_four_wide_walks_hits) {
   // The top level is committed once per SIMD kernel set: with AVX2 or AVX-512, rays from inside
   // it walk its eight-wide twins (Bvh8Walk.h); with the portable kernels, the BVH4. Every
   // answer must be the same bits, and the wide walk must actually run (fewer node visits).
-  const SimdIsa saved = activeSimdIsa();
+  struct IsaGuard {
+    SimdIsa saved = activeSimdIsa();
+    ~IsaGuard() { setSimdIsa(saved); }
+  } guard;
   std::mt19937 rng(404);
   const TriangleMesh flat = makeRandomTriangles(rng, 600, -12.0f, 12.0f, 1.5f);
   std::vector<TriangleMesh> parts;
@@ -764,7 +767,6 @@ BOOST_AUTO_TEST_CASE(wide_top_level_walk_gives_the_four_wide_walks_hits) {
     visits.push_back(ctx.nodeVisits);
     if (isa == SimdIsa::Portable) checkScene(scene, rays, "portable top level", 200);
   }
-  setSimdIsa(saved);
   std::size_t found = 0;
   for (const Hit& h : answers.front()) found += h.valid() ? 1 : 0;
   BOOST_TEST(found > rays.size() / 4);
