@@ -150,10 +150,8 @@ void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
   twins_.clear();
 #if TG_BVH8_WALK
   if (refs_.size() <= kTwinMaxEntries && bvh_.maxDepth >= kTwinMinDepth &&
-      activeSimdIsa() != SimdIsa::Portable) {
+      activeSimdIsa() != SimdIsa::Portable)
     buildBvh8Twins(bvh_.nodes, twins_);
-    twinRegion_ = bvh_.nodes[0].unionBounds();
-  }
 #endif
   stats_.leaves = bvh_.leaves;
   stats_.nodes = bvh_.nodes.size() + bvh_.leaves;
@@ -271,7 +269,8 @@ bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) con
     return found;
   };
 #if TG_BVH8_WALK
-  if (!twins_.empty() && twinRegion_.contains(ray.origin))
+  // Rays from outside the top level's box (bvh_.bounds) keep the BVH4 walk (see build()).
+  if (!twins_.empty() && bvh_.bounds.contains(ray.origin))
     return traverseBvh8Closest(bvh_.nodes, twins_, box, tfar, ctx.nodeVisits, leaf);
 #endif
   return traverseBvh4From<false>(bvh_.nodes, 0, 0, box, tfar, ctx.nodeVisits, leaf);

@@ -58,9 +58,6 @@ class TopLevelBvh final : public TopLevelAccel {
   /// Eight-wide twins of bvh_.nodes for closest-hit single rays; empty when they are not used
   /// (no AVX2, the portable kernels chosen, or a large top level).
   Bvh8NodeArray twins_;
-  /// The box of the whole top level when twins_ is not empty: rays from inside it walk the
-  /// twins, rays from outside the BVH4.
-  Box3f twinRegion_;
   /// What a leaf entry enters: a whole instance, or one subtree of the BVH of an identity
   /// instance (static geometry), whose box then stands in the top level for its own.
   struct Ref {
