@@ -1,6 +1,6 @@
-// The closest-hit single-ray walk over a BVH4 and its eight-wide twins (Bvh8Twin.h), eight
-// boxes per AVX instruction. Internal header: not installed; include it only where the walk is
-// instantiated (it brings in the AVX intrinsics).
+// The single-ray walks (closest and any hit) over a BVH4 and its eight-wide twins (Bvh8Twin.h),
+// eight boxes per AVX instruction. Internal header: not installed; include it only where the walk
+// is instantiated (it brings in the AVX intrinsics).
 #pragma once
 
 #include "Bvh4.h"
@@ -20,25 +20,29 @@
 namespace tg::detail {
 
 #if TG_BVH8_WALK
-/// traverseBvh4From's closest-hit walk from the root node of `nodes`, whose four children are
-/// tested with the 4-box test, then over their twins (`twins`, built from `nodes`), eight boxes
-/// per test with the 4-box test's arithmetic box by box. A twin tests a subset of the boxes
-/// above each leaf that the BVH4 walk tests, so it reaches every leaf that walk reaches, and
-/// the leaves apply the tie rule: the same closest hit whatever the order.
+/// traverseBvh4From's walk from the root node of `nodes`, whose four children are tested with
+/// the 4-box test, then over their twins (`twins`, built from `nodes`), eight boxes per test
+/// with the 4-box test's arithmetic box by box. A twin tests a subset of the boxes above each
+/// leaf that the BVH4 walk tests, so it reaches every leaf that walk reaches: the closest-hit
+/// walk (AnyHit false, nearest entry first) gives the same closest hit whatever the order,
+/// since the leaves apply the tie rule, and the any-hit walk (AnyHit true, farthest middle
+/// first as AnyHitOrder::FarthestFirst) the same answer.
 ///
 /// Compiled for AVX2 (the function attribute; the rest of the library stays at the baseline):
 /// call it only when the CPU runs AVX2. The root's own test stays four-wide: its twin would
 /// test the grandchildren for every ray that enters the scene's box. From the BART robots'
-/// camera the walk took 1.13-1.14 of Embree MEDIUM's time so, 1.17 through the root's twin.
-template <class LeafFn>
-[[gnu::target("avx2")]] bool traverseBvh8Closest(const Bvh4NodeArray& nodes,
-                                                 const Bvh8NodeArray& twins, const Bvh4Ray& ray,
-                                                 const float& tfar, std::uint64_t& nodeVisits,
-                                                 LeafFn&& leaf) {
+/// camera the closest-hit walk took 1.13-1.14 of Embree MEDIUM's time so, 1.17 through the
+/// root's twin.
+template <bool AnyHit, class LeafFn>
+[[gnu::target("avx2")]] bool traverseBvh8(const Bvh4NodeArray& nodes, const Bvh8NodeArray& twins,
+                                          const Bvh4Ray& ray, const float& tfar,
+                                          std::uint64_t& nodeVisits, LeafFn&& leaf) {
   if (nodes.empty()) return false;
+  // `key` orders the children: the entry distance (closest hit), or minus the middle of the
+  // ray's stretch in the box (any hit). Smaller keys are visited first.
   struct Entry {
     std::uint32_t child, count;
-    float tmin;
+    float key;
   };
   // At most seven entries pushed per level (a twin spans one or two BVH4 levels).
   Entry stack[7 * kBvh4MaxDepth + 8];
@@ -47,16 +51,16 @@ template <class LeafFn>
   {
     ++nodeVisits;
     const Bvh4Node& root = nodes[0];
-    float entry[4];
-    const unsigned mask = intersectBvh4Node(root, ray, tfar, entry);
+    float entry[4], exitDist[4];
+    const unsigned mask = intersectBvh4NodeWith<AnyHit>(root, ray, tfar, entry, exitDist);
     if (mask == 0) return false;
     Entry hits[4];
     int n = 0;
     for (int s = 0; s < 4; ++s) {
       if (!(mask & (1u << s))) continue;
-      const Entry e{root.child[s], root.count[s], entry[s]};
+      const Entry e{root.child[s], root.count[s], AnyHit ? -(entry[s] + exitDist[s]) : entry[s]};
       int k = n++;
-      for (; k > 0 && hits[k - 1].tmin > e.tmin; --k) hits[k] = hits[k - 1];
+      for (; k > 0 && hits[k - 1].key > e.key; --k) hits[k] = hits[k - 1];
       hits[k] = e;
     }
     for (int k = n - 1; k > 0; --k) stack[stackSize++] = hits[k];
@@ -90,10 +94,13 @@ template <class LeafFn>
       unsigned mask =
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ)));
       if (mask != 0) {
-        alignas(32) float entry[8];
-        _mm256_store_ps(entry, tmin);
-        // One or two children hit (most nodes): no sort. Nearer first, slot order on ties.
-        const auto slot = [&](unsigned s) { return Entry{node.child[s], node.count[s], entry[s]}; };
+        alignas(32) float key[8];
+        if constexpr (AnyHit)
+          _mm256_store_ps(key, _mm256_xor_ps(_mm256_add_ps(tmin, tmax), _mm256_set1_ps(-0.0f)));
+        else
+          _mm256_store_ps(key, tmin);
+        // One or two children hit (most nodes): no sort. Smaller key first, slot order on ties.
+        const auto slot = [&](unsigned s) { return Entry{node.child[s], node.count[s], key[s]}; };
         const Entry e0 = slot(static_cast<unsigned>(__builtin_ctz(mask)));
         mask &= mask - 1;
         if (mask == 0) {
@@ -103,13 +110,13 @@ template <class LeafFn>
         const Entry e1 = slot(static_cast<unsigned>(__builtin_ctz(mask)));
         mask &= mask - 1;
         if (mask == 0) {
-          const bool second = e1.tmin < e0.tmin;
+          const bool second = e1.key < e0.key;
           stack[stackSize++] = second ? e0 : e1;
           current = second ? e1 : e0;
           continue;
         }
-        // Three or more: push them all and sort the run nearest on top (slot order kept among
-        // equal entries), then take the top.
+        // Three or more: push them all and sort the run smallest key on top (slot order kept
+        // among equal entries), then take the top.
         const int base = stackSize;
         stack[stackSize++] = e0;
         stack[stackSize++] = e1;
@@ -120,20 +127,27 @@ template <class LeafFn>
         for (int i = base + 1; i < stackSize; ++i) {
           const Entry e = stack[i];
           int j = i;
-          for (; j > base && stack[j - 1].tmin <= e.tmin; --j) stack[j] = stack[j - 1];
+          for (; j > base && stack[j - 1].key <= e.key; --j) stack[j] = stack[j - 1];
           stack[j] = e;
         }
         current = stack[--stackSize];
         continue;
       }
     } else if (leaf(current.child, current.count)) {
+      if constexpr (AnyHit) return true;
       found = true;
     }
-    // Pop the next subtree whose entry still lies before the closest hit.
-    for (;;) {
-      if (stackSize == 0) return found;
+    if constexpr (AnyHit) {
+      // tfar never changes: every entry on the stack is still to be walked.
+      if (stackSize == 0) return false;
       current = stack[--stackSize];
-      if (!(current.tmin > tfar)) break;
+    } else {
+      // Pop the next subtree whose entry still lies before the closest hit.
+      for (;;) {
+        if (stackSize == 0) return found;
+        current = stack[--stackSize];
+        if (!(current.key > tfar)) break;
+      }
     }
   }
 }

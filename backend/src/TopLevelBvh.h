@@ -55,8 +55,9 @@ class TopLevelBvh final : public TopLevelAccel {
   /// build (or scene) is never taken for one of this.
   std::uint64_t buildId_ = 0;
   BvhBuildResult bvh_;
-  /// Eight-wide twins of bvh_.nodes for closest-hit single rays; empty when they are not used
-  /// (no AVX2, the portable kernels chosen, or a large top level).
+  /// Eight-wide twins of bvh_.nodes for single rays (any-hit ones in deep top levels only, see
+  /// TopLevelBvh.cpp); empty when they are not used (no AVX2, the portable kernels chosen, or a
+  /// large or shallow top level).
   Bvh8NodeArray twins_;
   /// What a leaf entry enters: a whole instance, or one subtree of the BVH of an identity
   /// instance (static geometry), whose box then stands in the top level for its own.
