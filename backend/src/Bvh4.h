@@ -3,6 +3,7 @@
 // traversal. Internal header: not installed.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -153,7 +154,18 @@ struct Bvh4Ray {
 #endif
   int nearRow[3];  ///< Bvh4Node::bounds row of the plane entered first per axis
   int farRow[3];   ///< and of the plane left last
-  float tnear;     ///< smallest t that counts
+#if TG_BVH4_SSE
+  /// nearRow and farRow times four, pointer-sized: the box tests add them to a node's first
+  /// bound as they are (an index scaled by the load's addressing, 4 or 8 bytes for rows of four
+  /// or eight floats) where a row number took a sign extension and a shift per plane and node.
+  std::ptrdiff_t nearOffset[3], farOffset[3];
+  __m128 tnearV;  ///< tnear, broadcast
+  /// 1 - kBvhIntervalSlack and 1 + kBvhIntervalSlack, broadcast: operands in memory of the
+  /// widening products (GCC turns a constant vector into a broadcast at every node).
+  __m128 widenEntry, widenExit;
+#endif
+  bool nonNegativeTnear;  ///< tnear >= 0: intervals are widened by one product per end
+  float tnear;            ///< smallest t that counts
 
   Bvh4Ray(const Vec3f& org, const Vec3f& dir, float tnear_)
       : Bvh4Ray(org, dir, reciprocals(dir), tnear_) {}
@@ -161,7 +173,7 @@ struct Bvh4Ray {
   /// From a ray whose reciprocal direction is already known (1/dir per component, +-inf for
   /// +-0, as ObjectRay::inverseDirection holds it): the same constants without three divisions.
   Bvh4Ray(const Vec3f& org, const Vec3f& dir, const Vec3f& inverseDir, float tnear_)
-      : tnear(tnear_) {
+      : nonNegativeTnear(tnear_ >= 0.0f), tnear(tnear_) {
 #if TG_BVH4_SSE
     // All three axes at once: the per-axis zero tests were branches, and the set-up was a tenth
     // of a walk's time for rays that leave after a node or two (most rays from outside a scene).
@@ -183,7 +195,12 @@ struct Bvh4Ray {
       const int n = (negative >> a) & 1;
       nearRow[a] = 2 * a + n;
       farRow[a] = 2 * a + 1 - n;
+      nearOffset[a] = 4 * nearRow[a];
+      farOffset[a] = 4 * farRow[a];
     }
+    tnearV = _mm_set1_ps(tnear_);
+    widenEntry = _mm_set1_ps(1.0f - kBvhIntervalSlack);
+    widenExit = _mm_set1_ps(1.0f + kBvhIntervalSlack);
 #else
     for (int a = 0; a < 3; ++a) {
       origin[a] = org[a];
@@ -206,26 +223,27 @@ template <bool WithExit>
 inline unsigned intersectBvh4NodeWith(const Bvh4Node& node, const Bvh4Ray& ray, float tfar,
                                       float entry[4], float exitDist[4]) {
 #if TG_BVH4_SSE
-  __m128 tmin = _mm_set1_ps(ray.tnear), tmax = _mm_set1_ps(tfar);
+  __m128 tmin = ray.tnearV, tmax = _mm_set1_ps(tfar);
+  const float* const rows = node.bounds[0];
   for (int a = 0; a < 3; ++a) {
-    const __m128 n = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[ray.nearRow[a]]), ray.origin[a]),
+    const __m128 n = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + ray.nearOffset[a]), ray.origin[a]),
                                 ray.reciprocal[a]);
-    const __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[ray.farRow[a]]), ray.origin[a]),
+    const __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + ray.farOffset[a]), ray.origin[a]),
                                 ray.reciprocal[a]);
     // MAXPS/MINPS return the second operand when either is NaN: a NaN slab distance (origin on
     // a face of a slab the ray is parallel to) keeps the interval as it is.
     tmin = _mm_max_ps(n, tmin);
     tmax = _mm_min_ps(f, tmax);
   }
-  if (ray.tnear >= 0.0f) {
+  if (ray.nonNegativeTnear) {
     // Then tmin >= tnear >= 0 (a NaN slab distance keeps tmin), and widening an end by its own
     // magnitude is one product: t - t s and t (1 - s) round the same exact value (t s is exact,
     // s being a power of two). A negative tmax rejects the box either way. Only where both ends
     // are +inf (a ray parallel to an axis outside the box's slab while every other slab
     // distance overflows) is a box kept that the general form rejects: a wasted visit, never a
     // lost hit. Two to three percent of the BART walks from the files' cameras.
-    tmin = _mm_mul_ps(tmin, _mm_set1_ps(1.0f - kBvhIntervalSlack));
-    tmax = _mm_mul_ps(tmax, _mm_set1_ps(1.0f + kBvhIntervalSlack));
+    tmin = _mm_mul_ps(tmin, ray.widenEntry);
+    tmax = _mm_mul_ps(tmax, ray.widenExit);
   } else {
     // Widen both ends by their own magnitude. An infinite end stays infinite on the side that
     // keeps the box, and turns into NaN (inf - inf) only on the side that already rejects it.
@@ -263,6 +281,22 @@ inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, floa
                                   float entry[4]) {
   return intersectBvh4NodeWith<false>(node, ray, tfar, entry, nullptr);
 }
+
+/// A walk's node visits counted in a local and added to `total` when the walk returns. An
+/// increment of the counter in memory at every node is a load and a store that the compiler
+/// must also assume may change the node array's address (both are reached through references),
+/// so it read that address again at every node.
+class LocalVisitCount {
+ public:
+  explicit LocalVisitCount(std::uint64_t& total) : total_(total) {}
+  ~LocalVisitCount() { total_ += visits; }
+  LocalVisitCount(const LocalVisitCount&) = delete;
+  LocalVisitCount& operator=(const LocalVisitCount&) = delete;
+  std::uint64_t visits = 0;  ///< visits so far
+
+ private:
+  std::uint64_t& total_;
+};
 
 /// The order in which an any-hit walk visits the children a ray hits (the answer is the same
 /// either way; only how soon a blocker is found differs).
@@ -306,14 +340,16 @@ bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::
     float tmin;
   };
   const float tnear = ray.tnear;
+  const Bvh4Node* const nodeData = nodes.data();
+  LocalVisitCount count(nodeVisits);
   Entry stack[3 * kBvh4MaxDepth + 4];
   int stackSize = 0;
   Entry current{rootChild, rootCount, tnear};
   bool found = false;
   for (;;) {
     if (current.count == 0) {
-      ++nodeVisits;
-      const Bvh4Node& node = nodes[current.child];
+      ++count.visits;
+      const Bvh4Node& node = nodeData[current.child];
       float entry[4];
       if constexpr (AnyHit && Order == AnyHitOrder::FarthestFirst) {
         float exitDist[4];

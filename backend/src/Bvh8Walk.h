@@ -38,6 +38,8 @@ template <bool AnyHit, class LeafFn>
                                           const Bvh4Ray& ray, const float& tfar,
                                           std::uint64_t& nodeVisits, LeafFn&& leaf) {
   if (nodes.empty()) return false;
+  LocalVisitCount count(nodeVisits);
+  const Bvh8Node* const twinData = twins.data();
   // `key` orders the children: the entry distance (closest hit), or minus the middle of the
   // ray's stretch in the box (any hit). Smaller keys are visited first.
   struct Entry {
@@ -49,7 +51,7 @@ template <bool AnyHit, class LeafFn>
   int stackSize = 0;
   Entry current;
   {
-    ++nodeVisits;
+    ++count.visits;
     const Bvh4Node& root = nodes[0];
     float entry[4], exitDist[4];
     const unsigned mask = intersectBvh4NodeWith<AnyHit>(root, ray, tfar, entry, exitDist);
@@ -73,24 +75,36 @@ template <bool AnyHit, class LeafFn>
                                 _mm256_set_m128(ray.reciprocal[1], ray.reciprocal[1]),
                                 _mm256_set_m128(ray.reciprocal[2], ray.reciprocal[2])};
   const __m256 tnear = _mm256_set1_ps(ray.tnear);
-  const bool nonNegativeTnear = ray.tnear >= 0.0f;
+  const bool nonNegativeTnear = ray.nonNegativeTnear;
+  // The widening factors from the ray rather than as constants: GCC rebuilt a constant vector at
+  // every node (a broadcast per factor); a value it does not know stays in a register or is an
+  // operand in memory.
+  const __m256 widenEntry = _mm256_set_m128(ray.widenEntry, ray.widenEntry);
+  const __m256 widenExit = _mm256_set_m128(ray.widenExit, ray.widenExit);
   bool found = false;
   for (;;) {
     if (current.count == 0) {
-      ++nodeVisits;
-      const Bvh8Node& node = twins[current.child];
+      ++count.visits;
+      const Bvh8Node& node = twinData[current.child];
       // intersectBvh4NodeWith's operations, eight slots at a time (see there for the NaN and
       // widening rules).
       __m256 tmin = tnear, tmax = _mm256_set1_ps(tfar);
+      // Rows of eight floats: twice Bvh4Ray's offsets, which the loads scale by eight bytes.
+      const float* const rows = node.bounds[0];
       for (int a = 0; a < 3; ++a) {
         const __m256 n = _mm256_mul_ps(
-            _mm256_sub_ps(_mm256_load_ps(node.bounds[ray.nearRow[a]]), origin[a]), reciprocal[a]);
+            _mm256_sub_ps(_mm256_load_ps(rows + 2 * ray.nearOffset[a]), origin[a]), reciprocal[a]);
         const __m256 f = _mm256_mul_ps(
-            _mm256_sub_ps(_mm256_load_ps(node.bounds[ray.farRow[a]]), origin[a]), reciprocal[a]);
+            _mm256_sub_ps(_mm256_load_ps(rows + 2 * ray.farOffset[a]), origin[a]), reciprocal[a]);
         tmin = _mm256_max_ps(n, tmin);
         tmax = _mm256_min_ps(f, tmax);
       }
-      widenSlabInterval8(tmin, tmax, nonNegativeTnear);
+      if (nonNegativeTnear) {
+        tmin = _mm256_mul_ps(tmin, widenEntry);
+        tmax = _mm256_mul_ps(tmax, widenExit);
+      } else {
+        widenSlabInterval8(tmin, tmax, false);
+      }
       unsigned mask =
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ)));
       if (mask != 0) {
