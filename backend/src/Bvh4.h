@@ -155,9 +155,10 @@ struct Bvh4Ray {
   int nearRow[3];  ///< Bvh4Node::bounds row of the plane entered first per axis
   int farRow[3];   ///< and of the plane left last
 #if TG_BVH4_SSE
-  /// nearRow and farRow times four, pointer-sized: the box tests add them to a node's first
-  /// bound as they are (an index scaled by the load's addressing, 4 or 8 bytes for rows of four
-  /// or eight floats) where a row number took a sign extension and a shift per plane and node.
+  /// Byte offsets of the nearRow and farRow rows in a Bvh4Node's bounds (16 bytes a row),
+  /// pointer-sized: a box test adds them to the bounds' address as they are (doubled by the
+  /// load's addressing for the 32-byte rows of Bvh8Node) where a row number took a sign
+  /// extension and a shift per plane and node.
   std::ptrdiff_t nearOffset[3], farOffset[3];
   __m128 tnearV;  ///< tnear, broadcast
   /// 1 - kBvhIntervalSlack and 1 + kBvhIntervalSlack, broadcast: operands in memory of the
@@ -195,8 +196,8 @@ struct Bvh4Ray {
       const int n = (negative >> a) & 1;
       nearRow[a] = 2 * a + n;
       farRow[a] = 2 * a + 1 - n;
-      nearOffset[a] = 4 * nearRow[a];
-      farOffset[a] = 4 * farRow[a];
+      nearOffset[a] = static_cast<std::ptrdiff_t>(sizeof(Bvh4Node::bounds[0])) * nearRow[a];
+      farOffset[a] = static_cast<std::ptrdiff_t>(sizeof(Bvh4Node::bounds[0])) * farRow[a];
     }
     tnearV = _mm_set1_ps(tnear_);
     widenEntry = _mm_set1_ps(1.0f - kBvhIntervalSlack);
@@ -224,12 +225,15 @@ inline unsigned intersectBvh4NodeWith(const Bvh4Node& node, const Bvh4Ray& ray, 
                                       float entry[4], float exitDist[4]) {
 #if TG_BVH4_SSE
   __m128 tmin = ray.tnearV, tmax = _mm_set1_ps(tfar);
-  const float* const rows = node.bounds[0];
+  const char* const rows = reinterpret_cast<const char*>(node.bounds);
+  const auto row = [&](std::ptrdiff_t offset) {
+    return _mm_load_ps(reinterpret_cast<const float*>(rows + offset));
+  };
   for (int a = 0; a < 3; ++a) {
-    const __m128 n = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + ray.nearOffset[a]), ray.origin[a]),
-                                ray.reciprocal[a]);
-    const __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + ray.farOffset[a]), ray.origin[a]),
-                                ray.reciprocal[a]);
+    const __m128 n =
+        _mm_mul_ps(_mm_sub_ps(row(ray.nearOffset[a]), ray.origin[a]), ray.reciprocal[a]);
+    const __m128 f =
+        _mm_mul_ps(_mm_sub_ps(row(ray.farOffset[a]), ray.origin[a]), ray.reciprocal[a]);
     // MAXPS/MINPS return the second operand when either is NaN: a NaN slab distance (origin on
     // a face of a slab the ray is parallel to) keeps the interval as it is.
     tmin = _mm_max_ps(n, tmin);

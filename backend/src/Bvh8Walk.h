@@ -89,13 +89,17 @@ template <bool AnyHit, class LeafFn>
       // intersectBvh4NodeWith's operations, eight slots at a time (see there for the NaN and
       // widening rules).
       __m256 tmin = tnear, tmax = _mm256_set1_ps(tfar);
-      // Rows of eight floats: twice Bvh4Ray's offsets, which the loads scale by eight bytes.
-      const float* const rows = node.bounds[0];
+      // Rows of 32 bytes: twice Bvh4Ray's offsets, a scale the loads' addressing applies. (No
+      // lambda here: it would not inherit this function's AVX2 target.)
+      static_assert(sizeof(Bvh8Node::bounds[0]) == 2 * sizeof(Bvh4Node::bounds[0]));
+      const char* const rows = reinterpret_cast<const char*>(node.bounds);
       for (int a = 0; a < 3; ++a) {
-        const __m256 n = _mm256_mul_ps(
-            _mm256_sub_ps(_mm256_load_ps(rows + 2 * ray.nearOffset[a]), origin[a]), reciprocal[a]);
-        const __m256 f = _mm256_mul_ps(
-            _mm256_sub_ps(_mm256_load_ps(rows + 2 * ray.farOffset[a]), origin[a]), reciprocal[a]);
+        const __m256 nearPlanes =
+            _mm256_load_ps(reinterpret_cast<const float*>(rows + 2 * ray.nearOffset[a]));
+        const __m256 farPlanes =
+            _mm256_load_ps(reinterpret_cast<const float*>(rows + 2 * ray.farOffset[a]));
+        const __m256 n = _mm256_mul_ps(_mm256_sub_ps(nearPlanes, origin[a]), reciprocal[a]);
+        const __m256 f = _mm256_mul_ps(_mm256_sub_ps(farPlanes, origin[a]), reciprocal[a]);
         tmin = _mm256_max_ps(n, tmin);
         tmax = _mm256_min_ps(f, tmax);
       }
