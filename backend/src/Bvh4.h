@@ -136,6 +136,12 @@ using Bvh4NodeArray = std::vector<Bvh4Node, DefaultInitAllocator<Bvh4Node>>;
 /// holding a triangle whose edge lies on the box face.
 inline constexpr float kBvhIntervalSlack = 4.0f * 0x1p-24f;
 
+/// 1 - kBvhIntervalSlack (row 0) and 1 + kBvhIntervalSlack (row 1) in each of eight lanes: the
+/// factors that widen box intervals whose ends are >= 0. Defined in Bvh4.cpp, out of sight of
+/// the walks, so that the products take them as operands in memory: a constant the compiler
+/// sees, it made again at every node (a broadcast per factor).
+alignas(32) extern const float kBvhWidenFactors[2][8];
+
 /// Per-ray constants of the 4-box test.
 ///
 /// A zero direction component (+0 or -0) gets +inf as its reciprocal, whatever its sign: the
@@ -152,18 +158,17 @@ struct Bvh4Ray {
   float origin[3];
   float reciprocal[3];
 #endif
-  int nearRow[3];  ///< Bvh4Node::bounds row of the plane entered first per axis
-  int farRow[3];   ///< and of the plane left last
 #if TG_BVH4_SSE
-  /// Byte offsets of the nearRow and farRow rows in a Bvh4Node's bounds (16 bytes a row),
-  /// pointer-sized: a box test adds them to the bounds' address as they are (doubled by the
-  /// load's addressing for the 32-byte rows of Bvh8Node) where a row number took a sign
-  /// extension and a shift per plane and node.
+  /// Byte offsets in a Bvh4Node's bounds (16 bytes a row) of the row of the plane entered first
+  /// per axis (nearOffset) and of the plane left last (farOffset), pointer-sized: a box test
+  /// adds them to the bounds' address as they are (doubled by the load's addressing for the
+  /// 32-byte rows of Bvh8Node), where a row number took a sign extension and a shift per plane
+  /// and node.
   std::ptrdiff_t nearOffset[3], farOffset[3];
   __m128 tnearV;  ///< tnear, broadcast
-  /// 1 - kBvhIntervalSlack and 1 + kBvhIntervalSlack, broadcast: operands in memory of the
-  /// widening products (GCC turns a constant vector into a broadcast at every node).
-  __m128 widenEntry, widenExit;
+#else
+  int nearRow[3];  ///< Bvh4Node::bounds row of the plane entered first per axis
+  int farRow[3];   ///< and of the plane left last
 #endif
   bool nonNegativeTnear;  ///< tnear >= 0: intervals are widened by one product per end
   float tnear;            ///< smallest t that counts
@@ -192,16 +197,13 @@ struct Bvh4Ray {
     reciprocal[2] = _mm_shuffle_ps(r, r, 0xAA);
     // -0 counts as positive (its reciprocal was made +inf), as does NaN.
     const int negative = _mm_movemask_ps(_mm_cmplt_ps(d, _mm_setzero_ps()));
+    constexpr auto kRowBytes = static_cast<std::ptrdiff_t>(sizeof(Bvh4Node::bounds[0]));
     for (int a = 0; a < 3; ++a) {
-      const int n = (negative >> a) & 1;
-      nearRow[a] = 2 * a + n;
-      farRow[a] = 2 * a + 1 - n;
-      nearOffset[a] = static_cast<std::ptrdiff_t>(sizeof(Bvh4Node::bounds[0])) * nearRow[a];
-      farOffset[a] = static_cast<std::ptrdiff_t>(sizeof(Bvh4Node::bounds[0])) * farRow[a];
+      const std::ptrdiff_t n = (negative >> a) & 1;
+      nearOffset[a] = kRowBytes * (2 * a + n);
+      farOffset[a] = kRowBytes * (2 * a + 1 - n);
     }
     tnearV = _mm_set1_ps(tnear_);
-    widenEntry = _mm_set1_ps(1.0f - kBvhIntervalSlack);
-    widenExit = _mm_set1_ps(1.0f + kBvhIntervalSlack);
 #else
     for (int a = 0; a < 3; ++a) {
       origin[a] = org[a];
@@ -246,8 +248,8 @@ inline unsigned intersectBvh4NodeWith(const Bvh4Node& node, const Bvh4Ray& ray, 
     // are +inf (a ray parallel to an axis outside the box's slab while every other slab
     // distance overflows) is a box kept that the general form rejects: a wasted visit, never a
     // lost hit. Two to three percent of the BART walks from the files' cameras.
-    tmin = _mm_mul_ps(tmin, ray.widenEntry);
-    tmax = _mm_mul_ps(tmax, ray.widenExit);
+    tmin = _mm_mul_ps(tmin, _mm_load_ps(kBvhWidenFactors[0]));
+    tmax = _mm_mul_ps(tmax, _mm_load_ps(kBvhWidenFactors[1]));
   } else {
     // Widen both ends by their own magnitude. An infinite end stays infinite on the side that
     // keeps the box, and turns into NaN (inf - inf) only on the side that already rejects it.

@@ -76,11 +76,10 @@ template <bool AnyHit, class LeafFn>
                                 _mm256_set_m128(ray.reciprocal[2], ray.reciprocal[2])};
   const __m256 tnear = _mm256_set1_ps(ray.tnear);
   const bool nonNegativeTnear = ray.nonNegativeTnear;
-  // The widening factors from the ray rather than as constants: GCC rebuilt a constant vector at
-  // every node (a broadcast per factor); a value it does not know stays in a register or is an
-  // operand in memory.
-  const __m256 widenEntry = _mm256_set_m128(ray.widenEntry, ray.widenEntry);
-  const __m256 widenExit = _mm256_set_m128(ray.widenExit, ray.widenExit);
+  // The widening factors as values the compiler does not know (see kBvhWidenFactors): a register
+  // or an operand in memory, not a broadcast at every node.
+  const __m256 widenEntry = _mm256_load_ps(kBvhWidenFactors[0]);
+  const __m256 widenExit = _mm256_load_ps(kBvhWidenFactors[1]);
   bool found = false;
   for (;;) {
     if (current.count == 0) {
