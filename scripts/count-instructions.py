@@ -18,6 +18,7 @@ if len(sys.argv) < 4 or len(sys.argv) % 2 != 0:
 path, *targets = sys.argv[1:]
 labels = targets[0::2]
 names = targets[1::2]
+positions = 1  # position columns before the costs (instr, and line unless left out)
 events = []  # the profile's event names, in the order of its cost columns
 entry = {}  # function -> (lowest instruction address seen, its execution count)
 fnames, current, last = {}, None, 0  # compressed names, the current function, last address
@@ -27,6 +28,9 @@ with open(path) as f:
         line = line.rstrip("\n")
         if line.startswith("events:"):
             events = line.split()[1:]
+            continue
+        if line.startswith("positions:"):
+            positions = len(line.split()) - 1
             continue
         m = re.match(r"(c?fn)=\((\d+)\)(?: (.*))?", line)
         if m:
@@ -54,8 +58,8 @@ with open(path) as f:
         if pending_call:
             pending_call = False
             continue
-        if current in names and len(parts) > 2:
-            ir = int(parts[2])
+        if current in names and len(parts) > positions:
+            ir = int(parts[positions])  # Ir, the first event
             best = entry.get(current)
             if best is None or addr < best[0]:
                 entry[current] = (addr, ir)
