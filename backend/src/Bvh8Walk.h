@@ -76,10 +76,6 @@ template <bool AnyHit, class LeafFn>
                                 _mm256_set_m128(ray.reciprocal[2], ray.reciprocal[2])};
   const __m256 tnear = _mm256_set1_ps(ray.tnear);
   const bool nonNegativeTnear = ray.nonNegativeTnear;
-  // The widening factors as values the compiler does not know (see kBvhWidenFactors): a register
-  // or an operand in memory, not a broadcast at every node.
-  const __m256 widenEntry = _mm256_load_ps(kBvhWidenFactors[0]);
-  const __m256 widenExit = _mm256_load_ps(kBvhWidenFactors[1]);
   bool found = false;
   for (;;) {
     if (current.count == 0) {
@@ -102,12 +98,7 @@ template <bool AnyHit, class LeafFn>
         tmin = _mm256_max_ps(n, tmin);
         tmax = _mm256_min_ps(f, tmax);
       }
-      if (nonNegativeTnear) {
-        tmin = _mm256_mul_ps(tmin, widenEntry);
-        tmax = _mm256_mul_ps(tmax, widenExit);
-      } else {
-        widenSlabInterval8(tmin, tmax, false);
-      }
+      widenSlabInterval8(tmin, tmax, nonNegativeTnear);
       unsigned mask =
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ)));
       if (mask != 0) {

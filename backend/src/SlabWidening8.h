@@ -18,8 +18,10 @@ namespace {
                                                                            __m256& tmax,
                                                                            bool nonNegativeTnear) {
   if (nonNegativeTnear) {
-    tmin = _mm256_mul_ps(tmin, _mm256_set1_ps(1.0f - kBvhIntervalSlack));
-    tmax = _mm256_mul_ps(tmax, _mm256_set1_ps(1.0f + kBvhIntervalSlack));
+    // The factors from memory (see kBvhWidenFactors): operands of the products, not broadcasts
+    // made again at every node.
+    tmin = _mm256_mul_ps(tmin, _mm256_load_ps(kBvhWidenFactors[0]));
+    tmax = _mm256_mul_ps(tmax, _mm256_load_ps(kBvhWidenFactors[1]));
   } else {
     const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
     const __m256 slack = _mm256_set1_ps(kBvhIntervalSlack);
