@@ -50,7 +50,9 @@ struct BvhSubtree {
 
 /// A BVH4 over one mesh. Leaves hold up to a few triangles, copied contiguously in leaf order
 /// for the same watertight test the kd-trees use, so hits are identical whichever accelerator
-/// found them.
+/// found them. SAH trees keep each leaf's vertices component by component (leaf rows,
+/// LeafRows.h): a single ray tests a leaf's up to four triangles in one SSE step, with the
+/// scalar test's bits; Morton trees, rewritten by every refit, keep them packed.
 ///
 /// AccelKind::Bvh: 32-bin SAH over all axes, degenerate triangles left out; no refit.
 /// AccelKind::BvhFast: Morton-code build (BvhMortonBuilder), degenerate triangles kept in the
@@ -132,8 +134,11 @@ class BvhAccel final : public ObjectAccel {
   bool occludedTriangle(const ObjectRay& ray, std::uint32_t k) const;
   /// Mesh triangle index of triangle `k` (leaf order).
   std::uint32_t primId(std::uint32_t k) const { return primIds_[k]; }
-  /// Triangles from `first` on (leaf order) as packed floats, 9 per triangle.
-  const float* triangleFloats(std::uint32_t first) const;
+  /// The vertices of the leaf of `count` triangles at `first` (leaf order), from triangle
+  /// `from` on.
+  TriangleFloats leafTriangles(std::uint32_t first, std::uint32_t count, std::uint32_t from) const;
+  /// The vertices of triangle `k` (leaf order).
+  TriangleVertices vertices(std::uint32_t k) const;
 
  private:
   /// SAH weights used for the cost figure (and by the builders): a four-box node test costs
@@ -152,12 +157,25 @@ class BvhAccel final : public ObjectAccel {
   /// degenerate count and the SAH cost over the topology of the last Morton build (a refit).
   void refitFromMesh(const TriangleMesh& mesh);
   void finishStats();
+  /// Writes leafRows_ and leafLanes_ for every leaf of nodes_ from `mesh` and primIds_.
+  void writeLeafRowsOfTree(const TriangleMesh& mesh);
+
+  /// True when the vertices are leaf rows (SAH trees), false when packed (Morton trees).
+  bool hasLeafRows() const { return kind_ != AccelKind::BvhFast; }
 
   AccelKind kind_;
   Bvh4NodeArray nodes_;
-  /// In leaf order; every build writes all of them (see NoInit).
+  /// Morton trees: the vertices in leaf order, packed; every build writes all of them (see
+  /// NoInit). A refit rewrites them in place.
   std::vector<TriangleVertices, UninitializedAllocator<TriangleVertices>> triangles_;
-  std::vector<std::uint32_t> primIds_;  ///< mesh triangle index of each triangles_ entry
+  /// SAH trees: the vertices as leaf rows (LeafRows.h), which single rays test four triangles
+  /// at a time: triangle k of a leaf starting at `first` lies in the 9 * count floats from
+  /// 9 * first, followed by kLeafRowPadding floats at the end.
+  std::vector<float, UninitializedAllocator<float>> leafRows_;
+  /// SAH trees: per triangle, its place in its leaf (low four bits) and the leaf's size (high
+  /// four), which find its rows from its index alone (vertices()).
+  std::vector<std::uint8_t> leafLanes_;
+  std::vector<std::uint32_t> primIds_;  ///< mesh triangle index of each triangle (leaf order)
   std::vector<std::uint32_t> indices_;  ///< mesh indices at the last build (refit check)
   BvhPrimArray prims_;                  ///< SAH build scratch
   std::vector<Vec3f> centroids_;        ///< Morton build scratch: lower + upper per box

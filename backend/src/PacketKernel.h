@@ -103,13 +103,22 @@ struct alignas(64) PacketTriangleHits {
   double normal[kTriangleBatch][3];
 };
 
+/// Where a run of triangles keeps its vertices: component a of vertex v of triangle i is
+/// at[(3 * v + a) * componentStride + i * triangleStride]. Packed triangles (9 floats each: v0,
+/// v1, v2) have strides 1 and 9; a leaf's rows (LeafRows.h) the leaf's size and 1.
+struct TriangleFloats {
+  const float* at = nullptr;
+  std::uint32_t componentStride = 1;
+  std::uint32_t triangleStride = 9;
+};
+
 /// The watertight test (intersectWatertight) of the lanes in `lanes` against up to
-/// kTriangleBatch triangles (9 floats each: v0, v1, v2) in order, with the scalar test's exact
+/// kTriangleBatch triangles (`vertices`) in order, with the scalar test's exact
 /// arithmetic in float and in double. A lane that hits lowers its own tfar (copied from `tfar`)
 /// for the triangles after; with `anyHit` it leaves the batch instead. The call stops after the
 /// first triangle with lanes in exact[i], which need the scalar test before the rest of the
 /// batch, or when no lane is left; it returns how many triangles it wrote in `out`.
-using TriangleTestFn = std::uint32_t (*)(const float* vertices, std::uint32_t count,
+using TriangleTestFn = std::uint32_t (*)(const TriangleFloats& vertices, std::uint32_t count,
                                          const PacketTriangleRays& rays, const float* tfar,
                                          unsigned lanes, bool anyHit, PacketTriangleHits& out);
 

@@ -21,7 +21,7 @@ namespace tg::detail {
 namespace {
 
 template <class V>
-std::uint32_t testTrianglesWith(const float* vertices, std::uint32_t count,
+std::uint32_t testTrianglesWith(const TriangleFloats& vertices, std::uint32_t count,
                                 const PacketTriangleRays& rays, const float* tfarIn, unsigned lanes,
                                 bool anyHit, PacketTriangleHits& out) {
   using D = typename V::Doubles;
@@ -33,12 +33,17 @@ std::uint32_t testTrianglesWith(const float* vertices, std::uint32_t count,
   std::memcpy(tfar, tfarIn, sizeof(tfar));
   unsigned live = lanes;
   for (std::uint32_t i = 0; i < count; ++i) {
-    const float* tri = vertices + 9 * i;
+    const float* at = vertices.at + vertices.triangleStride * i;
+    const std::size_t stride = vertices.componentStride;
+    // Component a of vertex v: tri(3 * v + a).
+    const auto tri = [&](int component) {
+      return at[static_cast<std::size_t>(component) * stride];
+    };
     // The plane of the triangle in double, as intersectWatertight computes it per ray: the
     // same for every lane, so computed once.
-    const double a[3] = {tri[0], tri[1], tri[2]};
-    const double e1[3] = {double(tri[3]) - a[0], double(tri[4]) - a[1], double(tri[5]) - a[2]};
-    const double e2[3] = {double(tri[6]) - a[0], double(tri[7]) - a[1], double(tri[8]) - a[2]};
+    const double a[3] = {tri(0), tri(1), tri(2)};
+    const double e1[3] = {double(tri(3)) - a[0], double(tri(4)) - a[1], double(tri(5)) - a[2]};
+    const double e2[3] = {double(tri(6)) - a[0], double(tri(7)) - a[1], double(tri(8)) - a[2]};
     double* n = out.normal[i];
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
@@ -51,14 +56,14 @@ std::uint32_t testTrianglesWith(const float* vertices, std::uint32_t count,
               oz = V::load(rays.origin[kz] + h);
       const V sx = V::load(rays.sx + h), sy = V::load(rays.sy + h);
       // A = a - origin, then the shear: ax = A[kx] - sx * A[kz], as in intersectWatertight.
-      const V az = V::broadcast(tri[kz]) - oz, bz = V::broadcast(tri[3 + kz]) - oz,
-              cz = V::broadcast(tri[6 + kz]) - oz;
-      const V ax = (V::broadcast(tri[kx]) - ox) - sx * az;
-      const V ay = (V::broadcast(tri[ky]) - oy) - sy * az;
-      const V bx = (V::broadcast(tri[3 + kx]) - ox) - sx * bz;
-      const V by = (V::broadcast(tri[3 + ky]) - oy) - sy * bz;
-      const V cx = (V::broadcast(tri[6 + kx]) - ox) - sx * cz;
-      const V cy = (V::broadcast(tri[6 + ky]) - oy) - sy * cz;
+      const V az = V::broadcast(tri(kz)) - oz, bz = V::broadcast(tri(3 + kz)) - oz,
+              cz = V::broadcast(tri(6 + kz)) - oz;
+      const V ax = (V::broadcast(tri(kx)) - ox) - sx * az;
+      const V ay = (V::broadcast(tri(ky)) - oy) - sy * az;
+      const V bx = (V::broadcast(tri(3 + kx)) - ox) - sx * bz;
+      const V by = (V::broadcast(tri(3 + ky)) - oy) - sy * bz;
+      const V cx = (V::broadcast(tri(6 + kx)) - ox) - sx * cz;
+      const V cy = (V::broadcast(tri(6 + ky)) - oy) - sy * cz;
       const V u = cx * by - cy * bx;
       const V v = ax * cy - ay * cx;
       const V w = bx * ay - by * ax;

@@ -108,6 +108,41 @@ struct FixedAxes {
   static constexpr std::size_t kx = Kx, ky = Ky, kz = Kz;
 };
 
+/// The rest of the watertight test for a triangle (a, b, c) whose edge functions U, V, W
+/// (sheared as intersectWatertightWith computes them, none exactly zero or already decided in
+/// double) passed the inside test: rejects a zero determinant, refines t and checks it against
+/// [ray.tnear, tfar]. A SIMD leaf test that computes U, V, W lane by lane with the same
+/// operations gives the same answers through it as the scalar test.
+[[gnu::always_inline]] inline bool finishWatertight(const WatertightRay& ray, const Vec3f& a,
+                                                    const Vec3f& b, const Vec3f& c, float U,
+                                                    float V, float W, float tfar,
+                                                    TriangleHit& out) {
+  const float det = U + V + W;
+  if (det == 0.0f) return false;
+  // The inside test before this is what must be watertight; t only needs to be accurate. Woop's
+  // T / det is a weighted average whose weights lose relative precision near edges, which
+  // costs tens of ulps on small, distant triangles. A candidate that passed the inside test is
+  // rare (a few per ray), so its plane distance is recomputed in double from the original
+  // vertices and the double ray: t = n.(a - o) / n.d, accurate to about one ulp except at
+  // grazing incidence, also through instances (the float object-space origin alone would carry
+  // an error of the size of its own magnitude's ulp; hard case 7).
+  const Vec3d da(a);
+  const Vec3d& o = ray.originD;
+  const Vec3d& d = ray.directionD;
+  const Vec3d n = cross(Vec3d(b) - da, Vec3d(c) - da);
+  const double nd = dot(n, d);
+  if (nd == 0.0) return false;  // ray in the triangle's plane: never a hit
+  const auto t = static_cast<float>(dot(n, da - o) / nd);
+  // Also rejects NaN, and t overflowing to infinity.
+  if (!(t >= ray.tnear && t <= tfar && t < kInfinity)) return false;
+  const float invDet = 1.0f / det;
+  out.t = t;
+  out.u = V * invDet;
+  out.v = W * invDet;
+  out.normal = n;
+  return true;
+}
+
 /// intersectWatertight with the ray's permutation given as `axes` (RayAxes or the FixedAxes
 /// equal to it): the same operations in the same order, so the same answers.
 template <class Axes>
@@ -135,30 +170,7 @@ inline bool intersectWatertightWith(const WatertightRay& ray, const Axes& axes, 
     W = static_cast<float>(bxay - byax);
   }
   if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
-  const float det = U + V + W;
-  if (det == 0.0f) return false;
-  // The inside test above is what must be watertight; t only needs to be accurate. Woop's
-  // T / det is a weighted average whose weights lose relative precision near edges, which
-  // costs tens of ulps on small, distant triangles. A candidate that passed the inside test is
-  // rare (a few per ray), so its plane distance is recomputed in double from the original
-  // vertices and the double ray: t = n.(a - o) / n.d, accurate to about one ulp except at
-  // grazing incidence, also through instances (the float object-space origin alone would carry
-  // an error of the size of its own magnitude's ulp; hard case 7).
-  const Vec3d da(a);
-  const Vec3d& o = ray.originD;
-  const Vec3d& d = ray.directionD;
-  const Vec3d n = cross(Vec3d(b) - da, Vec3d(c) - da);
-  const double nd = dot(n, d);
-  if (nd == 0.0) return false;  // ray in the triangle's plane: never a hit
-  const auto t = static_cast<float>(dot(n, da - o) / nd);
-  // Also rejects NaN, and t overflowing to infinity.
-  if (!(t >= ray.tnear && t <= tfar && t < kInfinity)) return false;
-  const float invDet = 1.0f / det;
-  out.t = t;
-  out.u = V * invDet;
-  out.v = W * invDet;
-  out.normal = n;
-  return true;
+  return finishWatertight(ray, a, b, c, U, V, W, tfar, out);
 }
 
 }  // namespace detail
