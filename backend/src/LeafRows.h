@@ -1,5 +1,5 @@
 // The inside step of the watertight triangle test for up to four triangles of a leaf at once
-// (SSE, x86-64's baseline), on a copy of the leaf's vertices stored component by component.
+// (SSE, x86-64's baseline), on the leaf's vertices stored component by component (leaf rows).
 // Internal header: not installed.
 //
 // A leaf of n triangles keeps its 9 * n floats as nine rows of n: row 3 * v + a holds component
