@@ -20,10 +20,12 @@
 namespace tg::detail {
 namespace {
 
-template <class V>
-std::uint32_t testTrianglesWith(const TriangleFloats& vertices, std::uint32_t count,
-                                const PacketTriangleRays& rays, const float* tfarIn, unsigned lanes,
-                                bool anyHit, PacketTriangleHits& out) {
+/// testTrianglesWith for a component stride of kStride floats, or of vertices.componentStride
+/// when kStride is 0.
+template <class V, std::size_t kStride>
+std::uint32_t testTrianglesStrided(const TriangleFloats& vertices, std::uint32_t count,
+                                   const PacketTriangleRays& rays, const float* tfarIn,
+                                   unsigned lanes, bool anyHit, PacketTriangleHits& out) {
   using D = typename V::Doubles;
   constexpr unsigned kWidthMask = (1u << V::kWidth) - 1u;
   const int kx = rays.kx, ky = rays.ky, kz = rays.kz;
@@ -34,7 +36,7 @@ std::uint32_t testTrianglesWith(const TriangleFloats& vertices, std::uint32_t co
   unsigned live = lanes;
   for (std::uint32_t i = 0; i < count; ++i) {
     const float* at = vertices.at + vertices.triangleStride * i;
-    const std::size_t stride = vertices.componentStride;
+    const std::size_t stride = kStride != 0 ? kStride : vertices.componentStride;
     // Component a of vertex v: tri(3 * v + a).
     const auto tri = [&](int component) {
       return at[static_cast<std::size_t>(component) * stride];
@@ -99,6 +101,27 @@ std::uint32_t testTrianglesWith(const TriangleFloats& vertices, std::uint32_t co
     if (exactMask != 0 || live == 0) return i + 1;
   }
   return count;
+}
+
+template <class V>
+std::uint32_t testTrianglesWith(const TriangleFloats& vertices, std::uint32_t count,
+                                const PacketTriangleRays& rays, const float* tfarIn, unsigned lanes,
+                                bool anyHit, PacketTriangleHits& out) {
+  // The strides of packed triangles and of leaf rows (a leaf's size, at most four) as
+  // constants: the vertex reads then take constant offsets, where a stride known only at run
+  // time cost the kernel a fifth more instructions (BART kitchen packets).
+  switch (vertices.componentStride) {
+    case 1:
+      return testTrianglesStrided<V, 1>(vertices, count, rays, tfarIn, lanes, anyHit, out);
+    case 2:
+      return testTrianglesStrided<V, 2>(vertices, count, rays, tfarIn, lanes, anyHit, out);
+    case 3:
+      return testTrianglesStrided<V, 3>(vertices, count, rays, tfarIn, lanes, anyHit, out);
+    case 4:
+      return testTrianglesStrided<V, 4>(vertices, count, rays, tfarIn, lanes, anyHit, out);
+    default:
+      return testTrianglesStrided<V, 0>(vertices, count, rays, tfarIn, lanes, anyHit, out);
+  }
 }
 
 }  // namespace
