@@ -113,6 +113,12 @@ struct Scene::Impl {
   const Affine3d& committedWorldToObject(std::uint32_t id) const {
     return records[recordOfInstance.empty() ? id : recordOfInstance[id]].worldToObjectD;
   }
+  /// committedWorldToObject(id) for mapping hit normals, or nullptr for an identity instance,
+  /// whose matrix is then exactly the identity (commit()).
+  const Affine3d* committedNormalMap(std::uint32_t id) const {
+    const InstanceRecord& r = records[recordOfInstance.empty() ? id : recordOfInstance[id]];
+    return r.identity ? nullptr : &r.worldToObjectD;
+  }
   /// Fills obj.uvPerArea from obj.committed. In float: it only chooses mip levels, and it
   /// runs at every commit of a textured mesh.
   static void fillUvPerArea(Object& obj) {
@@ -342,8 +348,10 @@ CommitStats Scene::commit() {
         const Box3f objectBounds = obj.accel->bounds();
         if (objectBounds.empty()) continue;  // nothing to hit
         r.accel = obj.accel.get();
-        r.worldToObjectD = inst.worldToObject;
         r.identity = inst.objectToWorld == Affine3d::identity();
+        // An identity given with -0 entries (equal to the identity) could invert to -0 entries;
+        // identity records hold the exact identity, whose products mapNormals shortcuts.
+        r.worldToObjectD = r.identity ? Affine3d::identity() : inst.worldToObject;
         r.worldBounds = r.identity ? objectBounds
                                    : conservativeFloatBox(inst.objectToWorld.transformBox(Box3d(
                                          Vec3d(objectBounds.lower), Vec3d(objectBounds.upper))));
@@ -398,43 +406,72 @@ bool Scene::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) const {
 
 namespace {
 
+/// transformTransposed(n) of a matrix whose linear part is the identity, bit for bit: each
+/// component is n's own plus two zeros, zero times the other two components, added in
+/// transformTransposed's order. Only a zero component can change, and only its sign (a zero
+/// times a negative component is -0); NaN and infinities propagate as through the matrix.
+/// Eighteen loads of matrix entries and six multiplications fewer per hit: static geometry,
+/// all of it one identity instance, takes most hits in BART scenes.
+Vec3d identityTransposed(const Vec3d& n) {
+  const Vec3d zero = n * 0.0;
+  return {(n.x + zero.y) + zero.z, (zero.x + n.y) + zero.z, (zero.x + zero.y) + n.z};
+}
+
+/// The world normal of one hit (see mapNormals), in scalars: a single ray's hit, or the last of
+/// an odd count.
+void mapNormal(const Affine3d* worldToObject, Hit& hit) {
+  const Vec3d n(hit.geometricNormal);
+  const Vec3d world =
+      worldToObject != nullptr ? worldToObject->transformTransposed(n) : identityTransposed(n);
+  hit.geometricNormal = Vec3f(normalize(world));
+}
+
 /// The world normals of `count` hits from the object-space normals the leaf tests left (see
 /// Scene::fillGeometricNormal), each by the inverse transpose of its instance (worldToObject
-/// transposed), in double, then normalised and rounded to float. Single rays and packets both
-/// come here, so they give the same bits by construction.
+/// transposed; nullptr for an instance whose matrix has the identity as its linear part, see
+/// committedNormalMap), in double, then normalised and rounded to float. Single rays and
+/// packets both come here, so they give the same bits by construction.
 ///
 /// On x86-64 two hits per SSE2 instruction: the operations of transformTransposed and normalize
 /// in their order (this baseline translation unit has no fused multiply-add to contract into;
 /// square root, division and the rounding to float are correctly rounded in vectors as in
 /// scalars). Three divisions per hit made the normals 7% of a packet's trace; in pairs, primary
 /// packets of the BART kitchen and robots traced 2-5% faster (interleaved runs, both cameras).
+/// A single hit takes the scalar operations: a pair made of one hit twice cost twice the
+/// instructions for the same latency.
 void mapNormals(const Affine3d* const* worldToObject, Hit* const* hits, std::size_t count) {
+  std::size_t i = 0;
 #if defined(__SSE2__)
-  for (std::size_t i = 0; i < count; i += 2) {
-    const std::size_t j = i + 1 < count ? i + 1 : i;
-    const Affine3d& a = *worldToObject[i];
-    const Affine3d& b = *worldToObject[j];
+  static constexpr Affine3d kIdentity = Affine3d::identity();
+  for (; i + 1 < count; i += 2) {
     const Vec3f& na = hits[i]->geometricNormal;
-    const Vec3f& nb = hits[j]->geometricNormal;
+    const Vec3f& nb = hits[i + 1]->geometricNormal;
     const __m128d nx = _mm_set_pd(nb.x, na.x), ny = _mm_set_pd(nb.y, na.y),
                   nz = _mm_set_pd(nb.z, na.z);
-    // transformTransposed: column c of the 3x3 part dotted with n, summed left to right.
-    const auto column = [&](int c) {
-      const __m128d m0 = _mm_set_pd(b.m[0][c], a.m[0][c]), m1 = _mm_set_pd(b.m[1][c], a.m[1][c]),
-                    m2 = _mm_set_pd(b.m[2][c], a.m[2][c]);
-      return _mm_add_pd(_mm_add_pd(_mm_mul_pd(m0, nx), _mm_mul_pd(m1, ny)), _mm_mul_pd(m2, nz));
-    };
     Vec3f normals[2];
-    detail::normalizePair(column(0), column(1), column(2), normals);
+    if (worldToObject[i] == nullptr && worldToObject[i + 1] == nullptr) {
+      // identityTransposed in pairs.
+      const __m128d zero = _mm_setzero_pd();
+      const __m128d zx = _mm_mul_pd(nx, zero), zy = _mm_mul_pd(ny, zero), zz = _mm_mul_pd(nz, zero);
+      detail::normalizePair(_mm_add_pd(_mm_add_pd(nx, zy), zz), _mm_add_pd(_mm_add_pd(zx, ny), zz),
+                            _mm_add_pd(_mm_add_pd(zx, zy), nz), normals);
+    } else {
+      // The exact identity's ones and zeros give identityTransposed's bits.
+      const Affine3d& a = worldToObject[i] != nullptr ? *worldToObject[i] : kIdentity;
+      const Affine3d& b = worldToObject[i + 1] != nullptr ? *worldToObject[i + 1] : kIdentity;
+      // transformTransposed: column c of the 3x3 part dotted with n, summed left to right.
+      const auto column = [&](int c) {
+        const __m128d m0 = _mm_set_pd(b.m[0][c], a.m[0][c]), m1 = _mm_set_pd(b.m[1][c], a.m[1][c]),
+                      m2 = _mm_set_pd(b.m[2][c], a.m[2][c]);
+        return _mm_add_pd(_mm_add_pd(_mm_mul_pd(m0, nx), _mm_mul_pd(m1, ny)), _mm_mul_pd(m2, nz));
+      };
+      detail::normalizePair(column(0), column(1), column(2), normals);
+    }
     hits[i]->geometricNormal = normals[0];
-    hits[j]->geometricNormal = normals[1];
-  }
-#else
-  for (std::size_t i = 0; i < count; ++i) {
-    const Vec3d n = worldToObject[i]->transformTransposed(Vec3d(hits[i]->geometricNormal));
-    hits[i]->geometricNormal = Vec3f(normalize(n));
+    hits[i + 1]->geometricNormal = normals[1];
   }
 #endif
+  for (; i < count; ++i) mapNormal(worldToObject[i], *hits[i]);
 }
 
 }  // namespace
@@ -445,9 +482,7 @@ void Scene::fillGeometricNormal(Hit& hit) const {
   // the mesh here would cost cache misses on every hit. Mapped in double: the inverse transpose
   // keeps it perpendicular under non-uniform scale and points it to the same side of the
   // surface after a mirroring (negative determinant) transform.
-  const Affine3d* worldToObject = &impl_->committedWorldToObject(hit.instanceId);
-  Hit* one = &hit;
-  mapNormals(&worldToObject, &one, 1);
+  mapNormal(impl_->committedNormalMap(hit.instanceId), hit);
 }
 
 namespace {
@@ -514,7 +549,7 @@ void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalC
     std::size_t count = 0;
     for (std::size_t l = 0; l < n; ++l)
       if (packetHits[l].valid()) {
-        worldToObject[count] = &impl_->committedWorldToObject(packetHits[l].instanceId);
+        worldToObject[count] = impl_->committedNormalMap(packetHits[l].instanceId);
         hit[count++] = &packetHits[l];
       }
     mapNormals(worldToObject, hit, count);
