@@ -50,7 +50,7 @@ inline void writeLeafRows(const TriangleVertices* triangles, std::uint32_t count
 
 #if TG_BVH4_SSE
 
-/// What the SIMD inside step found for the lanes of one group of up to four triangles.
+/// What the SIMD inside step found for the lanes of a leaf of up to four triangles.
 struct LeafInside4 {
   /// Lanes that passed the inside test with no edge function zero: finishWatertight decides
   /// them, from the edge functions below.
