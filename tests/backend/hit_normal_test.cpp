@@ -4,7 +4,6 @@
 #define BOOST_TEST_MODULE hit_normal
 #include <boost/test/unit_test.hpp>
 
-#include <bit>
 #include <cmath>
 #include <random>
 #include <vector>
