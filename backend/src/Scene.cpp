@@ -111,13 +111,17 @@ struct Scene::Impl {
   /// own matrices may already hold an uncommitted edit). `id` must be of a committed record,
   /// as the instance id of a hit is.
   const Affine3d& committedWorldToObject(std::uint32_t id) const {
-    return records[recordOfInstance.empty() ? id : recordOfInstance[id]].worldToObjectD;
+    return committedRecord(id).worldToObjectD;
   }
   /// committedWorldToObject(id) for mapping hit normals, or nullptr for an identity instance,
   /// whose matrix is then exactly the identity (commit()).
   const Affine3d* committedNormalMap(std::uint32_t id) const {
-    const InstanceRecord& r = records[recordOfInstance.empty() ? id : recordOfInstance[id]];
+    const InstanceRecord& r = committedRecord(id);
     return r.identity ? nullptr : &r.worldToObjectD;
+  }
+  /// The committed record of instance `id` (see committedWorldToObject).
+  const InstanceRecord& committedRecord(std::uint32_t id) const {
+    return records[recordOfInstance.empty() ? id : recordOfInstance[id]];
   }
   /// Fills obj.uvPerArea from obj.committed. In float: it only chooses mip levels, and it
   /// runs at every commit of a textured mesh.
@@ -450,7 +454,8 @@ void mapNormals(const Affine3d* const* worldToObject, Hit* const* hits, std::siz
                   nz = _mm_set_pd(nb.z, na.z);
     Vec3f normals[2];
     if (worldToObject[i] == nullptr && worldToObject[i + 1] == nullptr) {
-      // identityTransposed in pairs.
+      // identityTransposed in pairs. The matrix path below gives the same bits, but through it
+      // the kitchen's primary packets took 1.7% more instructions (Callgrind, 320x240).
       const __m128d zero = _mm_setzero_pd();
       const __m128d zx = _mm_mul_pd(nx, zero), zy = _mm_mul_pd(ny, zero), zz = _mm_mul_pd(nz, zero);
       detail::normalizePair(_mm_add_pd(_mm_add_pd(nx, zy), zz), _mm_add_pd(_mm_add_pd(zx, ny), zz),
