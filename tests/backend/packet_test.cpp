@@ -104,6 +104,31 @@ std::vector<Ray> cameraRays(std::mt19937& rng, const Box3f& box, int tiles) {
   return rays;
 }
 
+/// Camera-like tiles of 64 rays whose directions all lie in octant `signs` (bit a set: component
+/// a negative): eyes beyond the box on the opposite side of every axis, aimed at points inside.
+/// The packet walks are compiled once per octant, so each one is tested with rays of its own.
+std::vector<Ray> octantRays(std::mt19937& rng, const Box3f& box, unsigned signs, int tiles) {
+  std::vector<Ray> rays;
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), beyond(1.2f, 2.0f);
+  const Vec3f c = box.center(), e = box.extent();
+  for (int t = 0; t < tiles; ++t) {
+    Vec3f eye = c;
+    for (int a = 0; a < 3; ++a) {
+      const float side = ((signs >> a) & 1u) != 0 ? 1.0f : -1.0f;  // where the rays come from
+      eye[a] += side * (beyond(rng) * 0.5f * e[a] + 1.0f);
+    }
+    const Vec3f look = c + Vec3f{u(rng) * e.x, u(rng) * e.y, u(rng) * e.z} * 0.3f;
+    for (int k = 0; k < 64; ++k) {
+      const Vec3f target = look + Vec3f{u(rng) * e.x, u(rng) * e.y, u(rng) * e.z} * 0.1f;
+      Ray r;
+      r.origin = eye;
+      r.direction = normalize(target - eye);
+      rays.push_back(r);
+    }
+  }
+  return rays;
+}
+
 /// Shadow-like packets: origins scattered in the scene, all aimed at one light point, with
 /// tfar just short of the light.
 std::vector<Ray> shadowRays(std::mt19937& rng, const Box3f& box, int packets) {
@@ -223,6 +248,33 @@ BOOST_AUTO_TEST_CASE(kernels_are_listed_and_selectable) {
     BOOST_TEST((parseSimdIsa(simdIsaName(isa)) == isa));
   }
   BOOST_TEST(!parseSimdIsa("sse9").has_value());
+}
+
+BOOST_AUTO_TEST_CASE(packets_of_every_octant_equal_single_rays) {
+  IsaGuard guard;
+  std::mt19937 rng(808);
+  const auto scenes = makeScenes(rng, true);
+  const Box3f box = scenes.front()->bounds();
+  const std::vector<Config> cs = configs();
+  for (unsigned signs = 0; signs < 8; ++signs) {
+    const std::vector<Ray> rays = octantRays(rng, box, signs, 4);
+    for (const Ray& r : rays)
+      for (int a = 0; a < 3; ++a)
+        BOOST_REQUIRE((r.direction[a] < 0.0f) == (((signs >> a) & 1u) != 0));
+    for (SimdIsa isa : supportedSimdIsas()) {
+      BOOST_REQUIRE(setSimdIsa(isa));
+      for (std::size_t s = 0; s < scenes.size(); ++s) {
+        const std::string label = "octant " + std::to_string(signs) + " " +
+                                  std::string(simdIsaName(isa)) + " " + cs[s].name;
+        const Comparison c = compareWithSingleRays(*scenes[s], rays);
+        BOOST_TEST(c.mismatches == 0u, label << ": " << c.firstMismatch);
+        BOOST_TEST(c.hits > c.rays / 10, label << ": too few hits to mean anything");
+        if (cs[s].options.topLevel == TopLevelKind::Bvh &&
+            cs[s].options.staticAccel != AccelKind::SahKdTree)
+          BOOST_TEST(c.packetNodeVisits * 2 < c.singleNodeVisits, label);
+      }
+    }
+  }
 }
 
 BOOST_AUTO_TEST_CASE(flat_packets_equal_single_rays) {
