@@ -22,6 +22,7 @@ struct Avx2NodeTest : Avx8LaneOps {
                          0xFF) {}
   /// Every lane's tnear is >= 0: the interval ends widen by one product (see Bvh4.h).
   bool nonNegativeTnear;
+  template <class Rows>
   void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
             float entry[4][kPacketLanes]) const {
     const __m256 tnear = _mm256_load_ps(rays.tnear), tfar = _mm256_load_ps(rays.tfar);
@@ -33,11 +34,11 @@ struct Avx2NodeTest : Avx8LaneOps {
     for (int s = 0; s < 4; ++s) {
       __m256 tmin = tnear, tmax = tfar;
       for (int a = 0; a < 3; ++a) {
-        const __m256 n =
-            _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(node.bounds[rays.nearRow[a]][s]), origin[a]),
-                          reciprocal[a]);
+        const __m256 n = _mm256_mul_ps(
+            _mm256_sub_ps(_mm256_set1_ps(node.bounds[Rows::nearRow(a)][s]), origin[a]),
+            reciprocal[a]);
         const __m256 f =
-            _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(node.bounds[rays.farRow[a]][s]), origin[a]),
+            _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(node.bounds[Rows::farRow(a)][s]), origin[a]),
                           reciprocal[a]);
         tmin = _mm256_max_ps(n, tmin);
         tmax = _mm256_min_ps(f, tmax);

@@ -48,6 +48,7 @@ struct Avx512NodeTest : Avx8LaneOps {
   bool nonNegativeTnear;
   __m512 origin[3], reciprocal[3];
 
+  template <class Rows>
   void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
             float entry[4][kPacketLanes]) const {
     const __m512i absMask = _mm512_set1_epi32(0x7FFFFFFF);
@@ -57,9 +58,9 @@ struct Avx512NodeTest : Avx8LaneOps {
       __m512 tmin = tnear, tmax = tfar;
       for (int a = 0; a < 3; ++a) {
         const __m512 n = _mm512_mul_ps(
-            _mm512_sub_ps(slotPair(node.bounds[rays.nearRow[a]], s), origin[a]), reciprocal[a]);
+            _mm512_sub_ps(slotPair(node.bounds[Rows::nearRow(a)], s), origin[a]), reciprocal[a]);
         const __m512 f = _mm512_mul_ps(
-            _mm512_sub_ps(slotPair(node.bounds[rays.farRow[a]], s), origin[a]), reciprocal[a]);
+            _mm512_sub_ps(slotPair(node.bounds[Rows::farRow(a)], s), origin[a]), reciprocal[a]);
         tmin = _mm512_max_ps(n, tmin);
         tmax = _mm512_min_ps(f, tmax);
       }

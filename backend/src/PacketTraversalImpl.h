@@ -3,12 +3,16 @@
 // internal linkage (see PacketKernel.h for why). Internal header: not installed.
 //
 // NodeTest(rays) is made once per walk and may keep what of the rays stays fixed during it (all
-// but tfar); its test(node, rays, lanes, hit, entry) tests the four child boxes of `node` against
-// the lanes in `lanes` and writes, per slot, the lanes that hit it (hit[s]) and each lane's
-// widened entry distance (entry[s][lane]), with exactly the arithmetic of intersectBvh4Node.
+// but tfar); its test<Rows>(node, rays, lanes, hit, entry), with Rows the packet's OctantRows,
+// tests the four child boxes of `node` against the lanes in `lanes` and writes, per slot, the
+// lanes that hit it (hit[s]) and each lane's widened entry distance (entry[s][lane]), with
+// exactly the arithmetic of intersectBvh4Node.
 // NodeTest also provides the lane operations of ScalarLaneOps (by deriving from it or from a
 // wider version with the same answers).
 #pragma once
+
+#include <array>
+#include <utility>
 
 #include "PacketKernel.h"
 #include "PacketTriangleTest.h"
@@ -34,15 +38,26 @@ struct ScalarLaneOps {
   }
 };
 
+/// The Bvh4Node::bounds rows a packet's lanes enter and leave the boxes by, fixed by the
+/// octant of their directions: bit a of Signs set when component a is negative (the rows
+/// PacketBoxRays::nearRow and farRow hold). As constants, the node test addresses its planes
+/// directly instead of computing six addresses from the rows at every node.
+template <unsigned Signs>
+struct OctantRows {
+  static constexpr int nearRow(int a) { return 2 * a + static_cast<int>((Signs >> a) & 1u); }
+  static constexpr int farRow(int a) { return 2 * a + 1 - static_cast<int>((Signs >> a) & 1u); }
+};
+
 /// The walk: front to back in the order of each subtree's lowest lane (the children hit are
 /// visited by that lane's entry distance), with each lane leaving a subtree whose entry lies
 /// beyond its own closest hit, as the single-ray walk does. The order decides only how soon the
-/// closest hits are found, never which they are (the leaves apply the tie rule).
-template <class NodeTest>
-unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
-                        PacketBoxRays& rays, unsigned lanes, bool anyHit, AnyHitOrder anyHitOrder,
-                        PacketLeafFn leaf, PacketSingleFn single, void* user,
-                        std::uint64_t& nodeVisits) {
+/// closest hits are found, never which they are (the leaves apply the tie rule). Rows is the
+/// OctantRows of the packet (traversePacket chooses it).
+template <class NodeTest, class Rows>
+unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
+                    PacketBoxRays& rays, unsigned lanes, bool anyHit, AnyHitOrder anyHitOrder,
+                    PacketLeafFn leaf, PacketSingleFn single, void* user,
+                    std::uint64_t& nodeVisits) {
   // Children are ordered by one lane's entry: ascending for closest hits, descending (negated
   // keys) for any hits farthest first (by the entry alone: the node tests give no exits; the
   // single-ray walk also weighs the exit, see AnyHitOrder), not at all for any hits in slot
@@ -75,7 +90,7 @@ unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uin
       const Bvh4Node& node = nodes[child];
       unsigned hit[4];
       alignas(64) float entry[4][kPacketLanes];
-      nodeTest.test(node, rays, current, hit, entry);
+      nodeTest.template test<Rows>(node, rays, current, hit, entry);
       int order[4];
       float key[4];
       int n = 0;
@@ -147,6 +162,31 @@ unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uin
       }
     }
   }
+}
+
+/// walkPacket for each octant, indexed by the octant's sign bits.
+template <class NodeTest, unsigned... Signs>
+constexpr std::array<PacketTraverseFn, 8> octantWalks(std::integer_sequence<unsigned, Signs...>) {
+  return {&walkPacket<NodeTest, OctantRows<Signs>>...};
+}
+
+/// walkPacket for the octant of `rays` (PacketTraverseFn): eight copies of the walk, one per
+/// octant, since a packet's lanes share their direction signs. Callgrind, primary packets from
+/// the BART cameras (AVX2 kernels): kitchen 5.9% and robots 8.1% fewer instructions than with
+/// the rows read from the packet.
+template <class NodeTest>
+unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
+                        PacketBoxRays& rays, unsigned lanes, bool anyHit, AnyHitOrder anyHitOrder,
+                        PacketLeafFn leaf, PacketSingleFn single, void* user,
+                        std::uint64_t& nodeVisits) {
+  static constexpr std::array<PacketTraverseFn, 8> kWalks =
+      octantWalks<NodeTest>(std::make_integer_sequence<unsigned, 8>{});
+  // nearRow[a] is 2a + 1 exactly when component a is negative (see OctantRows).
+  const unsigned signs = static_cast<unsigned>(rays.nearRow[0] & 1) |
+                         static_cast<unsigned>(rays.nearRow[1] & 1) << 1 |
+                         static_cast<unsigned>(rays.nearRow[2] & 1) << 2;
+  return kWalks[signs](nodes, rootChild, rootCount, rays, lanes, anyHit, anyHitOrder, leaf, single,
+                       user, nodeVisits);
 }
 
 /// The kernels of one instruction set: the packet load, the walk with its node test and the

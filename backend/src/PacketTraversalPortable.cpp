@@ -14,6 +14,7 @@ namespace {
 struct PortableNodeTest : ScalarLaneOps {
   /// No per-walk state.
   explicit PortableNodeTest(const PacketBoxRays&) {}
+  template <class Rows>
   static void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
                    float entry[4][kPacketLanes]) {
 #if TG_BVH4_SSE
@@ -27,9 +28,9 @@ struct PortableNodeTest : ScalarLaneOps {
           const __m128 o = _mm_load_ps(rays.origin[a] + h);
           const __m128 r = _mm_load_ps(rays.reciprocal[a] + h);
           const __m128 n =
-              _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(node.bounds[rays.nearRow[a]][s]), o), r);
+              _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(node.bounds[Rows::nearRow(a)][s]), o), r);
           const __m128 f =
-              _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(node.bounds[rays.farRow[a]][s]), o), r);
+              _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(node.bounds[Rows::farRow(a)][s]), o), r);
           tmin = _mm_max_ps(n, tmin);
           tmax = _mm_min_ps(f, tmax);
         }
@@ -47,9 +48,9 @@ struct PortableNodeTest : ScalarLaneOps {
         float tmin = rays.tnear[l], tmax = rays.tfar[l];
         for (int a = 0; a < 3; ++a) {
           const float n =
-              (node.bounds[rays.nearRow[a]][s] - rays.origin[a][l]) * rays.reciprocal[a][l];
+              (node.bounds[Rows::nearRow(a)][s] - rays.origin[a][l]) * rays.reciprocal[a][l];
           const float f =
-              (node.bounds[rays.farRow[a]][s] - rays.origin[a][l]) * rays.reciprocal[a][l];
+              (node.bounds[Rows::farRow(a)][s] - rays.origin[a][l]) * rays.reciprocal[a][l];
           tmin = n > tmin ? n : tmin;
           tmax = f < tmax ? f : tmax;
         }
