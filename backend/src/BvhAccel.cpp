@@ -648,7 +648,7 @@ void BvhAccel::loadPacket(const ObjectRayPacket& packet, unsigned lanes, BvhPack
                                 r.tfar);
     coherent |= 1u << l;
   }
-  setPacketRows(box, signs);
+  box.signs = signs;
   fillUnusedLanes(box, coherent, first);
   loadPacketTriangles(packet, coherent, out);
   out.kernels = &activePacketKernels();

@@ -19,7 +19,7 @@ inline constexpr unsigned kPacketLanes = 8;
 inline constexpr unsigned kAllLanes = (1u << kPacketLanes) - 1u;
 
 /// A packet of up to kPacketLanes rays in structure-of-arrays layout, as the node test reads
-/// them. All lanes share the signs of their direction components (nearRow/farRow), which is
+/// them. All lanes share the signs of their direction components (signs), which is
 /// what lets one box plane serve as entry plane for every lane.
 struct alignas(64) PacketBoxRays {
   /// Origin per axis and lane.
@@ -30,10 +30,10 @@ struct alignas(64) PacketBoxRays {
   float tnear[kPacketLanes];
   /// Largest t per lane; leaf callbacks lower it as they find closer hits.
   float tfar[kPacketLanes];
-  /// Bvh4Node::bounds row of the plane entered first per axis (shared by the lanes).
-  int nearRow[3];
-  /// Row of the plane left last per axis.
-  int farRow[3];
+  /// The lanes' shared direction signs: bit a set when component a is negative (-0 and NaN
+  /// count as positive, as in directionSigns). They fix the Bvh4Node::bounds rows of the planes
+  /// entered first and left last (OctantRows in PacketTraversalImpl.h).
+  unsigned signs;
 };
 
 /// Tests primitives [first, first + count) of a leaf against the lanes in `lanes`. Closest-hit

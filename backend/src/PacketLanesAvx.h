@@ -161,11 +161,7 @@ unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, Packe
                                        hits[5].t, hits[6].t, hits[7].t);
     row[7] = _mm256_min_ps(hitT, row[7]);
   }
-  for (int a = 0; a < 3; ++a) {
-    const bool negative = (signs >> a) & 1u;
-    out.nearRow[a] = 2 * a + (negative ? 1 : 0);
-    out.farRow[a] = 2 * a + (negative ? 0 : 1);
-  }
+  out.signs = signs;
   for (int a = 0; a < 3; ++a) {
     const __m256 d = row[4 + a];
     const __m256 reciprocal = _mm256_div_ps(_mm256_set1_ps(1.0f), d);

@@ -69,15 +69,6 @@ inline void setPacketReciprocals(PacketBoxRays& rays) {
 #endif
 }
 
-/// Sets the shared plane rows for direction signs `signs` (see directionSigns).
-inline void setPacketRows(PacketBoxRays& rays, unsigned signs) {
-  for (int a = 0; a < 3; ++a) {
-    const bool negative = (signs >> a) & 1u;
-    rays.nearRow[a] = 2 * a + (negative ? 1 : 0);
-    rays.farRow[a] = 2 * a + (negative ? 0 : 1);
-  }
-}
-
 /// Copies lane `from` into every lane outside `lanes`, so that the kernel's full-width
 /// arithmetic on unused lanes sees ordinary numbers (their results are masked off).
 inline void fillUnusedLanes(PacketBoxRays& rays, unsigned lanes, unsigned from) {
@@ -231,7 +222,7 @@ inline unsigned loadPacketBoxRays(const Ray* rays, const Hit* hits, unsigned& la
     coherent &= leadNegative ? negative : ~negative;
   }
   if (hits) lowerToHits(out.tfar, hits);
-  setPacketRows(out, signs);
+  out.signs = signs;
   fillUnusedLanes(out, coherent, firstLane);
   setPacketReciprocals(out);
   return coherent;

@@ -111,7 +111,7 @@ inline void loadTransformedPacket(const InstanceRecord& inst, const Ray* rays, u
     r.instanceId = inst.instanceId;
     r.objectId = inst.objectId;
   }
-  setPacketRows(box, signs);
+  box.signs = signs;
   fillUnusedLanes(box, coherent, first);
 
   // Triangle rows: the coherent lanes with the first lane's axis permutation; the others hold

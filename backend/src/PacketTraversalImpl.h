@@ -36,9 +36,9 @@ struct ScalarLaneOps {
 };
 
 /// The Bvh4Node::bounds rows a packet's lanes enter and leave the boxes by, fixed by the
-/// octant of their directions: bit a of Signs set when component a is negative (the rows
-/// PacketBoxRays::nearRow and farRow hold). As constants, the node test addresses its planes
-/// directly instead of computing six addresses from the rows at every node.
+/// octant of their directions: bit a of Signs set when component a is negative (as
+/// PacketBoxRays::signs). As constants, the node test addresses its planes directly instead of
+/// computing six addresses from row numbers at every node.
 template <unsigned Signs>
 struct OctantRows {
   static constexpr int nearRow(int a) { return 2 * a + static_cast<int>((Signs >> a) & 1u); }
@@ -173,19 +173,15 @@ struct OctantWalks {
 /// walkPacket for the octant of `rays` (PacketTraverseFn): eight copies of the walk, one per
 /// octant, since a packet's lanes share their direction signs. Callgrind, primary packets from
 /// the BART cameras (AVX2 kernels): kitchen 7.1% and robots 9.1% fewer instructions than with
-/// the rows read from the packet.
+/// row numbers read from the packet.
 template <class NodeTest>
 unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
                         PacketBoxRays& rays, unsigned lanes, bool anyHit, AnyHitOrder anyHitOrder,
                         PacketLeafFn leaf, PacketSingleFn single, void* user,
                         std::uint64_t& nodeVisits) {
   using Walks = OctantWalks<NodeTest, 0, 1, 2, 3, 4, 5, 6, 7>;
-  // nearRow[a] is 2a + 1 exactly when component a is negative (see OctantRows).
-  const unsigned signs = static_cast<unsigned>(rays.nearRow[0] & 1) |
-                         static_cast<unsigned>(rays.nearRow[1] & 1) << 1 |
-                         static_cast<unsigned>(rays.nearRow[2] & 1) << 2;
-  return Walks::walks[signs](nodes, rootChild, rootCount, rays, lanes, anyHit, anyHitOrder, leaf,
-                             single, user, nodeVisits);
+  return Walks::walks[rays.signs](nodes, rootChild, rootCount, rays, lanes, anyHit, anyHitOrder,
+                                  leaf, single, user, nodeVisits);
 }
 
 /// The kernels of one instruction set: the packet load, the walk with its node test and the
