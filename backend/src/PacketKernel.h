@@ -10,6 +10,8 @@
 #include <cstdint>
 
 #include "Bvh4.h"
+#include "tracegraph/backend/Affine.h"
+#include "tracegraph/backend/Ray.h"
 
 namespace tg::detail {
 
@@ -131,6 +133,28 @@ using TriangleTestFn = std::uint32_t (*)(const TriangleFloats& vertices, std::ui
 using BoxRayLoadFn = unsigned (*)(const Ray* rays, const Hit* hits, unsigned& lanes,
                                   PacketBoxRays& out);
 
+/// What a TransformedRowsFn found of a packet's lanes (see BvhPacketRays).
+struct TransformedLanes {
+  /// The lanes of `lanes` with the first one's object-space direction signs: the box rows'.
+  unsigned coherent = 0;
+  /// The lanes of `coherent` with the first one's axis permutation: the triangle rows'.
+  unsigned filtered = 0;
+  /// The first lane's dominant axis (WatertightRay::kz) and whether its component there is
+  /// negative, from which WatertightRay::shearAxes gives kx and ky.
+  int kz = 2;
+  bool kzNegative = false;
+};
+
+/// Loads the rows of the lanes `lanes` (not empty) of rays[0..kPacketLanes) (all are read)
+/// entering an instance whose world-to-object matrix is `worldToObject`, lane l limited to
+/// tfar[l] (read for `lanes` only), as mapping each lane (objectRayFor) and loading the object
+/// rays (BvhAccel::loadPacket) would give them: `box` whole, and the rows of `triangles` (kx, ky
+/// and kz are left to the caller, from the answer's kz). Lanes outside the answer's sets hold the
+/// first lane's numbers.
+using TransformedRowsFn = TransformedLanes (*)(const Ray* rays, const Affine3d& worldToObject,
+                                               unsigned lanes, const float* tfar,
+                                               PacketBoxRays& box, PacketTriangleRays& triangles);
+
 /// The kernels of one instruction set.
 struct PacketKernels {
   /// The packet load of the top-level walk.
@@ -139,6 +163,8 @@ struct PacketKernels {
   PacketTraverseFn traverse = nullptr;
   /// The triangle test.
   TriangleTestFn testTriangles = nullptr;
+  /// The rows of a packet entering a transformed instance.
+  TransformedRowsFn loadTransformedRows = nullptr;
 };
 
 /// The portable kernels (SSE on x86-64).

@@ -101,17 +101,15 @@ struct Lanes8 {
   }
 };
 
-/// The BoxRayLoadFn of the AVX kernels: loadPacketBoxRays (PacketRays.h) eight lanes per
-/// instruction, with the same comparisons, minimum and division, so the same bits.
-unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, PacketBoxRays& out) {
+/// Rows of eight rays: row[j] holds float j (Ray's member order) of every ray, an 8 x 8
+/// transpose. The rays are read by the unpacks themselves: copied into an array of registers
+/// first, GCC moved them through the stack in 64-byte halves and read them back in 32-byte
+/// quarters, which the store buffer cannot forward.
+[[gnu::always_inline]] inline void transposeRays(const Ray* rays, __m256 (&row)[8]) {
   static_assert(sizeof(Ray) == 8 * sizeof(float) && kPacketLanes == 8,
                 "eight rays of eight floats: an 8 x 8 transpose");
   const auto* f = reinterpret_cast<const float*>(rays);
-  // Transpose: row[j] holds float j (Ray's member order) of every ray. The rays are read by the
-  // unpacks themselves: copied into an array of registers first, GCC moved them through the
-  // stack in 64-byte halves and read them back in 32-byte quarters, which the store buffer
-  // cannot forward.
-  __m256 t[8], u[8], row[8];
+  __m256 t[8], u[8];
   for (int i = 0; i < 8; i += 2) {
     const __m256 a = _mm256_loadu_ps(f + 8 * i), b = _mm256_loadu_ps(f + 8 * (i + 1));
     t[i] = _mm256_unpacklo_ps(a, b);
@@ -127,6 +125,19 @@ unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, Packe
     row[j] = _mm256_permute2f128_ps(u[j], u[j + 4], 0x20);
     row[j + 4] = _mm256_permute2f128_ps(u[j], u[j + 4], 0x31);
   }
+}
+
+/// Writes lane `lead`'s value into every lane of the eight floats at `values` outside `keep`.
+[[gnu::always_inline]] inline void spreadLane(float* values, __m256 keep, __m256i lead) {
+  const __m256 v = _mm256_load_ps(values);
+  _mm256_store_ps(values, _mm256_blendv_ps(_mm256_permutevar8x32_ps(v, lead), v, keep));
+}
+
+/// The BoxRayLoadFn of the AVX kernels: loadPacketBoxRays (PacketRays.h) eight lanes per
+/// instruction, with the same comparisons, minimum and division, so the same bits.
+unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, PacketBoxRays& out) {
+  __m256 row[8];
+  transposeRays(rays, row);
   // The rows that go out unchanged are stored at once (unread when no lane is traceable): kept
   // until the end, GCC held them on the stack and copied them out in 64-byte moves from 32-byte
   // stores, which the store buffer cannot forward.
@@ -174,16 +185,12 @@ unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, Packe
   if (coherent != kAllLanes) {
     const __m256 keep = Avx8LaneOps::laneMask(coherent);
     const __m256i lead = _mm256_set1_epi32(static_cast<int>(firstLane));
-    const auto spread = [&](float* values) {
-      const __m256 v = _mm256_load_ps(values);
-      _mm256_store_ps(values, _mm256_blendv_ps(_mm256_permutevar8x32_ps(v, lead), v, keep));
-    };
     for (int a = 0; a < 3; ++a) {
-      spread(out.origin[a]);
-      spread(out.reciprocal[a]);
+      spreadLane(out.origin[a], keep, lead);
+      spreadLane(out.reciprocal[a], keep, lead);
     }
-    spread(out.tnear);
-    spread(out.tfar);
+    spreadLane(out.tnear, keep, lead);
+    spreadLane(out.tfar, keep, lead);
   }
   return coherent;
 }

@@ -64,21 +64,16 @@ inline void mapPacketRows(const Affine3d& m, const PacketRayRows& world,
 #endif
 }
 
-/// What mapPacketToObject and BvhAccel::loadPacket together make of the lanes `lanes` (not
-/// empty) of `rays` (eight rays, all read) entering transformed instance `inst`, lane l limited to
-/// tfar[l], computed as rows of lanes without writing the object rays: `loaded` gets the box
-/// and triangle rows (coherent: the lanes with the first lane's object-space direction signs;
-/// filtered: those of them with its axis permutation), and `packet` only the tfar and ids of
-/// `lanes`, which are left in loaded.unmappedLanes for BvhAccel::packetLane to complete when a
-/// test reads a whole ray. Gathering every field of eight object rays back into rows was an
-/// eighth of a packet's time in the robots' rigid parts.
-inline void loadTransformedPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
-                                  const float* tfar, const PacketKernels& kernels,
-                                  ObjectRayPacket& packet, BvhPacketRays& loaded) {
+/// The TransformedRowsFn of the portable kernels: the lanes mapped as rows (mapPacketRows), their
+/// shear and reciprocals four lanes at a time (shearPacket), then the rows BvhAccel::loadPacket
+/// would write.
+inline TransformedLanes loadTransformedRows(const Ray* rays, const Affine3d& worldToObject,
+                                            unsigned lanes, const float* tfar, PacketBoxRays& box,
+                                            PacketTriangleRays& tri) {
   PacketRayRows world;
   loadRayRows(rays, world);
   TransformedPacketRows object;
-  mapPacketRows(inst.worldToObjectD, world, object);
+  mapPacketRows(worldToObject, world, object);
   PacketShear shear;
   shearPacket(object.direction[0], object.direction[1], object.direction[2], shear);
 
@@ -94,7 +89,6 @@ inline void loadTransformedPacket(const InstanceRecord& inst, const Ray* rays, u
     coherent &= lead ? negative[a] : ~negative[a];
     signs |= (lead ? 1u : 0u) << a;
   }
-  PacketBoxRays& box = loaded.box;
   for (int a = 0; a < 3; ++a)
     for (unsigned l = 0; l < kRayPacketSize; ++l) {
       box.origin[a][l] = object.origin[a][l];
@@ -106,10 +100,6 @@ inline void loadTransformedPacket(const InstanceRecord& inst, const Ray* rays, u
   for (unsigned m = lanes; m != 0; m &= m - 1) {
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
     box.tfar[l] = tfar[l];
-    ObjectRay& r = packet.rays[l];
-    r.tfar = tfar[l];
-    r.instanceId = inst.instanceId;
-    r.objectId = inst.objectId;
   }
   box.signs = signs;
   fillUnusedLanes(box, coherent, first);
@@ -117,11 +107,6 @@ inline void loadTransformedPacket(const InstanceRecord& inst, const Ray* rays, u
   // Triangle rows: the coherent lanes with the first lane's axis permutation; the others hold
   // the first lane's numbers.
   const unsigned filtered = shear.samePermutation(coherent, first);
-  PacketTriangleRays& tri = loaded.triangles;
-  tri.kz = shear.kz(first);
-  WatertightRay::shearAxes(
-      {object.direction[0][first], object.direction[1][first], object.direction[2][first]}, tri.kz,
-      tri.kx, tri.ky);
   for (unsigned l = 0; l < kRayPacketSize; ++l) {
     const unsigned from = (filtered >> l) & 1u ? l : first;
     for (int a = 0; a < 3; ++a) {
@@ -133,9 +118,34 @@ inline void loadTransformedPacket(const InstanceRecord& inst, const Ray* rays, u
     tri.sy[l] = shear.sy[from];
     tri.tnear[l] = world.row[3][from];
   }
+  return {coherent, filtered, shear.kz(first), ((shear.swapped >> first) & 1u) != 0};
+}
 
-  loaded.coherent = coherent;
-  loaded.filtered = filtered;
+/// What mapPacketToObject and BvhAccel::loadPacket together make of the lanes `lanes` (not
+/// empty) of `rays` (eight rays, all read) entering transformed instance `inst`, lane l limited to
+/// tfar[l], computed as rows of lanes by the kernels' loadTransformedRows without writing the
+/// object rays: `loaded` gets the box and triangle rows (coherent: the lanes with the first
+/// lane's object-space direction signs; filtered: those of them with its axis permutation), and
+/// `packet` only the tfar and ids of `lanes`, which are left in loaded.unmappedLanes for
+/// BvhAccel::packetLane to complete when a test reads a whole ray. Gathering every field of eight
+/// object rays back into rows was an eighth of a packet's time in the robots' rigid parts.
+inline void loadTransformedPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
+                                  const float* tfar, const PacketKernels& kernels,
+                                  ObjectRayPacket& packet, BvhPacketRays& loaded) {
+  const TransformedLanes found = kernels.loadTransformedRows(rays, inst.worldToObjectD, lanes, tfar,
+                                                             loaded.box, loaded.triangles);
+  for (unsigned m = lanes; m != 0; m &= m - 1) {
+    const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+    ObjectRay& r = packet.rays[l];
+    r.tfar = tfar[l];
+    r.instanceId = inst.instanceId;
+    r.objectId = inst.objectId;
+  }
+  PacketTriangleRays& tri = loaded.triangles;
+  tri.kz = found.kz;
+  WatertightRay::shearAxes(found.kz, found.kzNegative, tri.kx, tri.ky);
+  loaded.coherent = found.coherent;
+  loaded.filtered = found.filtered;
   loaded.unmappedLanes = lanes;
   loaded.worldRays = rays;
   loaded.instance = &inst;

@@ -7,6 +7,7 @@
 #include <immintrin.h>
 
 #include "PacketLanesAvx.h"
+#include "PacketTransformedRowsAvx.h"
 #include "PacketTraversalImpl.h"
 #include "SlabWidening8.h"
 
@@ -54,7 +55,7 @@ struct Avx2NodeTest : Avx8LaneOps {
 }  // namespace
 
 PacketKernels packetKernelsAvx2() {
-  return packetKernelsWith<Avx2NodeTest, Lanes8>(&loadBoxRaysAvx);
+  return packetKernelsWith<Avx2NodeTest, Lanes8>(&loadBoxRaysAvx, &loadTransformedRowsAvx);
 }
 
 }  // namespace tg::detail

@@ -14,6 +14,7 @@
 #include <immintrin.h>
 
 #include "PacketLanesAvx.h"
+#include "PacketTransformedRowsAvx.h"
 #include "PacketTraversalImpl.h"
 
 namespace tg::detail {
@@ -87,7 +88,7 @@ struct Avx512NodeTest : Avx8LaneOps {
 }  // namespace
 
 PacketKernels packetKernelsAvx512() {
-  return packetKernelsWith<Avx512NodeTest, Lanes8>(&loadBoxRaysAvx);
+  return packetKernelsWith<Avx512NodeTest, Lanes8>(&loadBoxRaysAvx, &loadTransformedRowsAvx);
 }
 
 }  // namespace tg::detail

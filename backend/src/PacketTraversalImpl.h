@@ -184,11 +184,11 @@ unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uin
                                   leaf, single, user, nodeVisits);
 }
 
-/// The kernels of one instruction set: the packet load, the walk with its node test and the
+/// The kernels of one instruction set: the packet loads, the walk with its node test and the
 /// triangle test with its lane type.
 template <class NodeTest, class Lanes>
-PacketKernels packetKernelsWith(BoxRayLoadFn load) {
-  return {load, &traversePacket<NodeTest>, &testTrianglesWith<Lanes>};
+PacketKernels packetKernelsWith(BoxRayLoadFn load, TransformedRowsFn loadTransformedRows) {
+  return {load, &traversePacket<NodeTest>, &testTrianglesWith<Lanes>, loadTransformedRows};
 }
 
 }  // namespace

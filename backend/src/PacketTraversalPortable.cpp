@@ -1,6 +1,7 @@
 // The portable packet kernel: SSE (the x86-64 baseline) tests one child box against four lanes
 // per instruction; other targets use plain C++ with the same arithmetic.
 #include "PacketRays.h"
+#include "PacketTransformedRays.h"
 #include "PacketTraversalImpl.h"
 #include "PacketTriangleTest.h"
 
@@ -182,7 +183,8 @@ using PortableLanes = Lanes1;
 }  // namespace
 
 PacketKernels packetKernelsPortable() {
-  return packetKernelsWith<PortableNodeTest, PortableLanes>(&loadPacketBoxRays);
+  return packetKernelsWith<PortableNodeTest, PortableLanes>(&loadPacketBoxRays,
+                                                            &loadTransformedRows);
 }
 
 }  // namespace tg::detail

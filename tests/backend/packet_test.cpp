@@ -381,12 +381,17 @@ bool sameRows(const T (&a)[N], const T (&b)[N]) {
 }
 
 BOOST_AUTO_TEST_CASE(transformed_packets_load_as_mapped_object_rays) {
-  // The packet walk loads a transformed instance's rows straight from the world rays and makes
-  // a lane's object ray only when a test reads it: rows, lane sets and the rays made later must
-  // all be what mapping every lane (objectRayFor) and loading them (loadPacket) give.
+  // The packet walk loads a transformed instance's rows straight from the world rays, with the
+  // kernels of each instruction set, and makes a lane's object ray only when a test reads it:
+  // rows, lane sets and the rays made later must all be what mapping every lane (objectRayFor)
+  // and loading them (loadPacket) give.
+  IsaGuard guard;
   std::mt19937 rng(43);
-  const detail::PacketKernels& kernels = detail::activePacketKernels();
-  for (int trial = 0; trial < 300; ++trial) {
+  const std::vector<SimdIsa> isas = supportedSimdIsas();
+  for (int trial = 0; trial < 300 * static_cast<int>(isas.size()); ++trial) {
+    const SimdIsa isa = isas[static_cast<std::size_t>(trial) % isas.size()];
+    BOOST_REQUIRE(setSimdIsa(isa));
+    const detail::PacketKernels& kernels = detail::activePacketKernels();
     const MappingTrial setup = makeMappingTrial(rng, trial, false);
     const auto& [inst, rays, tfar, lanes] = setup;
 
@@ -398,7 +403,7 @@ BOOST_AUTO_TEST_CASE(transformed_packets_load_as_mapped_object_rays) {
     ObjectRayPacket lazy;
     detail::BvhPacketRays loaded;
     detail::loadTransformedPacket(inst, rays, lanes, tfar, kernels, lazy, loaded);
-    BOOST_TEST_CONTEXT("trial " << trial) {
+    BOOST_TEST_CONTEXT("trial " << trial << ", " << simdIsaName(isa)) {
       BOOST_TEST(loaded.coherent == expected.coherent);
       BOOST_TEST(loaded.filtered == expected.filtered);
       BOOST_TEST(loaded.unmappedLanes == lanes);

@@ -43,9 +43,13 @@ struct WatertightRay {
   /// |component|): kx and ky follow kz cyclically, swapped when dir[kz] < 0 so that the sheared
   /// triangle keeps its winding whatever the ray's orientation. Packet mappings use it too.
   static void shearAxes(const Vec3f& dir, int kz, int& kx, int& ky) {
+    shearAxes(kz, dir[kz] < 0.0f, kx, ky);
+  }
+  /// shearAxes for a direction whose dominant axis is `kz`, given only whether dir[kz] < 0.
+  static void shearAxes(int kz, bool negative, int& kx, int& ky) {
     kx = kz == 2 ? 0 : kz + 1;
     ky = kx == 2 ? 0 : kx + 1;
-    if (dir[kz] < 0.0f) std::swap(kx, ky);
+    if (negative) std::swap(kx, ky);
   }
 
   WatertightRay() = default;
