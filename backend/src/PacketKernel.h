@@ -133,9 +133,10 @@ using TriangleTestFn = std::uint32_t (*)(const TriangleFloats& vertices, std::ui
 using BoxRayLoadFn = unsigned (*)(const Ray* rays, const Hit* hits, unsigned& lanes,
                                   PacketBoxRays& out);
 
-/// What a TransformedRowsFn found of a packet's lanes (see BvhPacketRays).
-struct TransformedLanes {
-  /// The lanes of `lanes` with the first one's object-space direction signs: the box rows'.
+/// What a packet's row load (TransformedRowsFn, IdentityRowsFn) found of its lanes (see
+/// BvhPacketRays).
+struct LoadedLanes {
+  /// The lanes loaded with the first one's object-space direction signs: the box rows'.
   unsigned coherent = 0;
   /// The lanes of `coherent` with the first one's axis permutation: the triangle rows'.
   unsigned filtered = 0;
@@ -151,9 +152,16 @@ struct TransformedLanes {
 /// rays (BvhAccel::loadPacket) would give them: `box` whole, and the rows of `triangles` (kx, ky
 /// and kz are left to the caller, from the answer's kz). Lanes outside the answer's sets hold the
 /// first lane's numbers.
-using TransformedRowsFn = TransformedLanes (*)(const Ray* rays, const Affine3d& worldToObject,
-                                               unsigned lanes, const float* tfar,
-                                               PacketBoxRays& box, PacketTriangleRays& triangles);
+using TransformedRowsFn = LoadedLanes (*)(const Ray* rays, const Affine3d& worldToObject,
+                                          unsigned lanes, const float* tfar, PacketBoxRays& box,
+                                          PacketTriangleRays& triangles);
+
+/// Loads the triangle rows of the lanes `lanes` (not empty) of rays[0..kPacketLanes) (all are
+/// read) entering identity instances, whose object rays are the world rays: the rows of
+/// `triangles` as mapIdentityPacket writes them (kx, ky and kz left to the caller, as for
+/// TransformedRowsFn). The answer's `coherent` is `lanes`: the box rows are the world's.
+using IdentityRowsFn = LoadedLanes (*)(const Ray* rays, unsigned lanes,
+                                       PacketTriangleRays& triangles);
 
 /// The kernels of one instruction set.
 struct PacketKernels {
@@ -165,6 +173,8 @@ struct PacketKernels {
   TriangleTestFn testTriangles = nullptr;
   /// The rows of a packet entering a transformed instance.
   TransformedRowsFn loadTransformedRows = nullptr;
+  /// The triangle rows of a packet entering identity instances.
+  IdentityRowsFn loadIdentityRows = nullptr;
 };
 
 /// The portable kernels (SSE on x86-64).

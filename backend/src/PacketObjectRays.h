@@ -91,24 +91,80 @@ inline void shearPacket(const float* xRow, const float* yRow, const float* zRow,
   out.swapped = swapped;
 }
 
+/// The triangle rows of `lanes` (not empty) of an identity instance's packet, whose object rays
+/// are the world rays, from the rays' rows and their shear: what BvhAccel::loadPacket gathers
+/// from the object rays, straight from the same rows (kx, ky and kz left to the caller). Lanes
+/// without the first lane's axis permutation hold its values.
+inline LoadedLanes writeIdentityTriangleRows(const PacketRayRows& rows, const PacketShear& shear,
+                                             unsigned lanes, PacketTriangleRays& tri) {
+  // The permutation is fixed by kz and the swap: lanes whose three bits equal the first lane's.
+  const unsigned lead = static_cast<unsigned>(__builtin_ctz(lanes));
+  const unsigned filtered = shear.samePermutation(lanes, lead);
+  const LoadedLanes found{lanes, filtered, shear.kz(lead), ((shear.swapped >> lead) & 1u) != 0};
+#if defined(__SSE2__)
+  if (filtered == (1u << kRayPacketSize) - 1u) {
+    // Every lane takes the test (the common case): whole rows, doubles two lanes at a time.
+    for (unsigned h = 0; h < kRayPacketSize; h += 4) {
+      for (int a = 0; a < 3; ++a) {
+        const __m128 o = _mm_load_ps(rows.row[a] + h), d = _mm_load_ps(rows.row[4 + a] + h);
+        _mm_store_ps(tri.origin[a] + h, o);
+        _mm_storeu_pd(tri.originD[a] + h, _mm_cvtps_pd(o));
+        _mm_storeu_pd(tri.originD[a] + h + 2, _mm_cvtps_pd(_mm_movehl_ps(o, o)));
+        _mm_storeu_pd(tri.directionD[a] + h, _mm_cvtps_pd(d));
+        _mm_storeu_pd(tri.directionD[a] + h + 2, _mm_cvtps_pd(_mm_movehl_ps(d, d)));
+      }
+      _mm_store_ps(tri.sx + h, _mm_load_ps(shear.sx + h));
+      _mm_store_ps(tri.sy + h, _mm_load_ps(shear.sy + h));
+      _mm_store_ps(tri.tnear + h, _mm_load_ps(rows.row[3] + h));
+    }
+    return found;
+  }
+#endif
+  for (unsigned l = 0; l < kRayPacketSize; ++l) {
+    const unsigned from = (filtered >> l) & 1u ? l : lead;
+    for (int a = 0; a < 3; ++a) {
+      tri.origin[a][l] = rows.row[a][from];
+      tri.originD[a][l] = rows.row[a][from];
+      tri.directionD[a][l] = rows.row[4 + a][from];
+    }
+    tri.sx[l] = shear.sx[from];
+    tri.sy[l] = shear.sy[from];
+    tri.tnear[l] = rows.row[3][from];
+  }
+  return found;
+}
+
+/// The IdentityRowsFn of the portable kernels: the rays' rows, their shear four lanes at a time
+/// (shearPacket), then writeIdentityTriangleRows.
+inline LoadedLanes loadIdentityRows(const Ray* rays, unsigned lanes, PacketTriangleRays& tri) {
+  PacketRayRows rows;
+  loadRayRows(rays, rows);
+  PacketShear shear;
+  shearPacket(rows.row[4], rows.row[5], rows.row[6], shear);
+  return writeIdentityTriangleRows(rows, shear, lanes, tri);
+}
+
+/// Sets the axis permutation of `tri` from what a row load found of its first lane.
+inline void setTrianglePermutation(const LoadedLanes& found, PacketTriangleRays& tri) {
+  tri.kz = found.kz;
+  WatertightRay::shearAxes(found.kz, found.kzNegative, tri.kx, tri.ky);
+}
+
 /// mapPacketToObject for an identity instance, whose object rays are the world rays: the axis
 /// permutation, shear constants and reciprocals of all eight lanes from the rays' rows, four
 /// lanes per instruction where SSE is available, then one pass of stores per lane. Choosing the
 /// permutation per lane and scattering the divisions' operands were most of the scalar
 /// mapping's work.
 ///
-/// With `triangles`, also writes the SIMD triangle test's rows of `lanes` (what
-/// BvhAccel::loadPacket gathers from the object rays, straight from the same rows) and returns
-/// the lanes that share the first lane's axis permutation, which that test takes; the other
-/// lanes' rows hold the first lane's values. Returns 0 without.
-///
-/// Without `writeRays`, out.rays is left as it is and `tfar` is not read (it may be null): a
-/// packet walk whose lanes all take the SIMD tests reads only the tfar and ids it sets itself,
-/// and a lane's ray is made when a test needs it (BvhAccel::packetLane). Writing all of it for
-/// every lane was a tenth of a museum packet's time from outside.
+/// With `triangles`, also writes the SIMD triangle test's rows of `lanes`
+/// (writeIdentityTriangleRows) and returns the lanes that share the first lane's axis
+/// permutation, which that test takes. Returns 0 without. (A packet walk whose lanes all take
+/// the SIMD tests needs only those rows: it loads them with its kernels' loadIdentityRows and
+/// makes a lane's ray when a test needs it, BvhAccel::packetLane. Writing every ray of the
+/// packet was a tenth of a museum packet's time from outside.)
 inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
                                   const float* tfar, ObjectRayPacket& out,
-                                  PacketTriangleRays* triangles = nullptr, bool writeRays = true) {
+                                  PacketTriangleRays* triangles = nullptr) {
   PacketRayRows rows;
   loadRayRows(rays, rows);
   PacketShear shear;
@@ -116,7 +172,7 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
   const float* sx = shear.sx;
   const float* sy = shear.sy;
   const auto& inverse = shear.inverse;
-  for (unsigned m = writeRays ? lanes : 0u; m != 0; m &= m - 1) {
+  for (unsigned m = lanes; m != 0; m &= m - 1) {
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
     ObjectRay& r = out.rays[l];
     WatertightRay& wt = r.wt;
@@ -136,44 +192,9 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
     r.objectId = inst.objectId;
   }
   if (triangles == nullptr || lanes == 0) return 0;
-  // The permutation is fixed by kz and the swap: lanes whose three bits equal the first lane's.
-  const unsigned lead = static_cast<unsigned>(__builtin_ctz(lanes));
-  const unsigned filtered = shear.samePermutation(lanes, lead);
-  PacketTriangleRays& tri = *triangles;
-  tri.kz = shear.kz(lead);
-  WatertightRay::shearAxes({rows.row[4][lead], rows.row[5][lead], rows.row[6][lead]}, tri.kz,
-                           tri.kx, tri.ky);
-#if defined(__SSE2__)
-  if (filtered == (1u << kRayPacketSize) - 1u) {
-    // Every lane takes the test (the common case): whole rows, doubles two lanes at a time.
-    for (unsigned h = 0; h < kRayPacketSize; h += 4) {
-      for (int a = 0; a < 3; ++a) {
-        const __m128 o = _mm_load_ps(rows.row[a] + h), d = _mm_load_ps(rows.row[4 + a] + h);
-        _mm_store_ps(tri.origin[a] + h, o);
-        _mm_storeu_pd(tri.originD[a] + h, _mm_cvtps_pd(o));
-        _mm_storeu_pd(tri.originD[a] + h + 2, _mm_cvtps_pd(_mm_movehl_ps(o, o)));
-        _mm_storeu_pd(tri.directionD[a] + h, _mm_cvtps_pd(d));
-        _mm_storeu_pd(tri.directionD[a] + h + 2, _mm_cvtps_pd(_mm_movehl_ps(d, d)));
-      }
-      _mm_store_ps(tri.sx + h, _mm_load_ps(sx + h));
-      _mm_store_ps(tri.sy + h, _mm_load_ps(sy + h));
-      _mm_store_ps(tri.tnear + h, _mm_load_ps(rows.row[3] + h));
-    }
-    return filtered;
-  }
-#endif
-  for (unsigned l = 0; l < kRayPacketSize; ++l) {
-    const unsigned from = (filtered >> l) & 1u ? l : lead;
-    for (int a = 0; a < 3; ++a) {
-      tri.origin[a][l] = rows.row[a][from];
-      tri.originD[a][l] = rows.row[a][from];
-      tri.directionD[a][l] = rows.row[4 + a][from];
-    }
-    tri.sx[l] = sx[from];
-    tri.sy[l] = sy[from];
-    tri.tnear[l] = rows.row[3][from];
-  }
-  return filtered;
+  const LoadedLanes found = writeIdentityTriangleRows(rows, shear, lanes, *triangles);
+  setTrianglePermutation(found, *triangles);
+  return found.filtered;
 }
 
 /// Writes out.rays[l] = objectRayFor(inst, rays[l], tfar[l]) for every lane l of `lanes`, bit for

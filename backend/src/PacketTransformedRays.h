@@ -67,9 +67,9 @@ inline void mapPacketRows(const Affine3d& m, const PacketRayRows& world,
 /// The TransformedRowsFn of the portable kernels: the lanes mapped as rows (mapPacketRows), their
 /// shear and reciprocals four lanes at a time (shearPacket), then the rows BvhAccel::loadPacket
 /// would write.
-inline TransformedLanes loadTransformedRows(const Ray* rays, const Affine3d& worldToObject,
-                                            unsigned lanes, const float* tfar, PacketBoxRays& box,
-                                            PacketTriangleRays& tri) {
+inline LoadedLanes loadTransformedRows(const Ray* rays, const Affine3d& worldToObject,
+                                       unsigned lanes, const float* tfar, PacketBoxRays& box,
+                                       PacketTriangleRays& tri) {
   PacketRayRows world;
   loadRayRows(rays, world);
   TransformedPacketRows object;
@@ -132,8 +132,8 @@ inline TransformedLanes loadTransformedRows(const Ray* rays, const Affine3d& wor
 inline void loadTransformedPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
                                   const float* tfar, const PacketKernels& kernels,
                                   ObjectRayPacket& packet, BvhPacketRays& loaded) {
-  const TransformedLanes found = kernels.loadTransformedRows(rays, inst.worldToObjectD, lanes, tfar,
-                                                             loaded.box, loaded.triangles);
+  const LoadedLanes found = kernels.loadTransformedRows(rays, inst.worldToObjectD, lanes, tfar,
+                                                        loaded.box, loaded.triangles);
   for (unsigned m = lanes; m != 0; m &= m - 1) {
     const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
     ObjectRay& r = packet.rays[l];
@@ -141,9 +141,7 @@ inline void loadTransformedPacket(const InstanceRecord& inst, const Ray* rays, u
     r.instanceId = inst.instanceId;
     r.objectId = inst.objectId;
   }
-  PacketTriangleRays& tri = loaded.triangles;
-  tri.kz = found.kz;
-  WatertightRay::shearAxes(found.kz, found.kzNegative, tri.kx, tri.ky);
+  setTrianglePermutation(found, loaded.triangles);
   loaded.coherent = found.coherent;
   loaded.filtered = found.filtered;
   loaded.unmappedLanes = lanes;

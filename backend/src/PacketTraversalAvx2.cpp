@@ -7,7 +7,7 @@
 #include <immintrin.h>
 
 #include "PacketLanesAvx.h"
-#include "PacketTransformedRowsAvx.h"
+#include "PacketObjectRowsAvx.h"
 #include "PacketTraversalImpl.h"
 #include "SlabWidening8.h"
 
@@ -55,7 +55,8 @@ struct Avx2NodeTest : Avx8LaneOps {
 }  // namespace
 
 PacketKernels packetKernelsAvx2() {
-  return packetKernelsWith<Avx2NodeTest, Lanes8>(&loadBoxRaysAvx, &loadTransformedRowsAvx);
+  return packetKernelsWith<Avx2NodeTest, Lanes8>(&loadBoxRaysAvx, &loadTransformedRowsAvx,
+                                                 &loadIdentityRowsAvx);
 }
 
 }  // namespace tg::detail

@@ -14,7 +14,7 @@
 #include <immintrin.h>
 
 #include "PacketLanesAvx.h"
-#include "PacketTransformedRowsAvx.h"
+#include "PacketObjectRowsAvx.h"
 #include "PacketTraversalImpl.h"
 
 namespace tg::detail {
@@ -88,7 +88,8 @@ struct Avx512NodeTest : Avx8LaneOps {
 }  // namespace
 
 PacketKernels packetKernelsAvx512() {
-  return packetKernelsWith<Avx512NodeTest, Lanes8>(&loadBoxRaysAvx, &loadTransformedRowsAvx);
+  return packetKernelsWith<Avx512NodeTest, Lanes8>(&loadBoxRaysAvx, &loadTransformedRowsAvx,
+                                                   &loadIdentityRowsAvx);
 }
 
 }  // namespace tg::detail

@@ -187,8 +187,10 @@ unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uin
 /// The kernels of one instruction set: the packet loads, the walk with its node test and the
 /// triangle test with its lane type.
 template <class NodeTest, class Lanes>
-PacketKernels packetKernelsWith(BoxRayLoadFn load, TransformedRowsFn loadTransformedRows) {
-  return {load, &traversePacket<NodeTest>, &testTrianglesWith<Lanes>, loadTransformedRows};
+PacketKernels packetKernelsWith(BoxRayLoadFn load, TransformedRowsFn loadTransformedRows,
+                                IdentityRowsFn loadIdentityRows) {
+  return {load, &traversePacket<NodeTest>, &testTrianglesWith<Lanes>, loadTransformedRows,
+          loadIdentityRows};
 }
 
 }  // namespace

@@ -183,8 +183,8 @@ using PortableLanes = Lanes1;
 }  // namespace
 
 PacketKernels packetKernelsPortable() {
-  return packetKernelsWith<PortableNodeTest, PortableLanes>(&loadPacketBoxRays,
-                                                            &loadTransformedRows);
+  return packetKernelsWith<PortableNodeTest, PortableLanes>(
+      &loadPacketBoxRays, &loadTransformedRows, &loadIdentityRows);
 }
 
 }  // namespace tg::detail

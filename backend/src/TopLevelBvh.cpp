@@ -401,11 +401,12 @@ struct TopLevelPacketWalk {
     }
     ObjectRayPacket& packet = identity.get();
     if (!identityReady) {
-      // The triangle rows for a BvhAccel come from the same pass (identityBvhRays). The lanes'
-      // object rays are made when a test needs one (BvhAccel::packetLane), or below for an
-      // accelerator that reads the packet's rays themselves; tfar and the ids are set below.
-      identityFiltered =
-          mapIdentityPacket(inst, rays, walkLanes, nullptr, packet, &identityBvh.triangles, false);
+      // The triangle rows for a BvhAccel (identityBvhRays), by the kernels. The lanes' object
+      // rays are made when a test needs one (BvhAccel::packetLane), or below for an accelerator
+      // that reads the packet's rays themselves; tfar and the ids are set below.
+      const LoadedLanes found = kernels->loadIdentityRows(rays, walkLanes, identityBvh.triangles);
+      setTrianglePermutation(found, identityBvh.triangles);
+      identityFiltered = found.filtered;
       identityBvh.unmappedLanes = walkLanes;
       identityBvh.worldRays = rays;
       identityBvh.instance = &inst;

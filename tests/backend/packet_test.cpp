@@ -6,6 +6,7 @@
 #define BOOST_TEST_MODULE packet
 #include <boost/test/unit_test.hpp>
 
+#include <cmath>
 #include <limits>
 #include <memory>
 
@@ -433,6 +434,51 @@ BOOST_AUTO_TEST_CASE(transformed_packets_load_as_mapped_object_rays) {
                    "lane " << l);
       }
       BOOST_TEST(loaded.unmappedLanes == 0u);
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(identity_packets_load_as_mapped_object_rays) {
+  // A walk entering identity instances loads the triangle rows of its lanes (which share their
+  // direction signs) straight from the world rays, with the kernels of each instruction set: rows
+  // and lane sets must be what mapping every lane and loading them (loadPacket) give. Every other
+  // trial's directions share one octant and dominant axis, which takes the whole-row path.
+  IsaGuard guard;
+  std::mt19937 rng(47);
+  const std::vector<SimdIsa> isas = supportedSimdIsas();
+  for (int trial = 0; trial < 300 * static_cast<int>(isas.size()); ++trial) {
+    const SimdIsa isa = isas[static_cast<std::size_t>(trial) % isas.size()];
+    BOOST_REQUIRE(setSimdIsa(isa));
+    MappingTrial setup = makeMappingTrial(rng, trial, true);
+    if (trial % 2 == 0)
+      for (Ray& r : setup.rays)
+        r.direction = {60.0f + std::abs(r.direction.x), std::abs(r.direction.y),
+                       -1.0f - std::abs(r.direction.z)};
+    ObjectRayPacket mapped;
+    detail::mapPacketToObject(setup.inst, setup.rays, setup.lanes, setup.tfar, mapped);
+    detail::BvhPacketRays expected;
+    detail::BvhAccel::loadPacket(mapped, setup.lanes, expected);
+    // The walk's lanes: those whose signs match the first's.
+    const unsigned lanes = expected.coherent;
+
+    detail::PacketTriangleRays t;
+    const detail::LoadedLanes found =
+        detail::activePacketKernels().loadIdentityRows(setup.rays, lanes, t);
+    detail::setTrianglePermutation(found, t);
+    const detail::PacketTriangleRays& e = expected.triangles;
+    BOOST_TEST_CONTEXT("trial " << trial << ", " << simdIsaName(isa)) {
+      if (trial % 4 == 0) BOOST_TEST(found.filtered == detail::kAllLanes);
+      BOOST_TEST(found.coherent == lanes);
+      BOOST_TEST(found.filtered == expected.filtered);
+      BOOST_TEST((t.kx == e.kx && t.ky == e.ky && t.kz == e.kz));
+      for (int a = 0; a < 3; ++a) {
+        BOOST_TEST(sameRows(t.origin[a], e.origin[a]));
+        BOOST_TEST(sameRows(t.originD[a], e.originD[a]));
+        BOOST_TEST(sameRows(t.directionD[a], e.directionD[a]));
+      }
+      BOOST_TEST(sameRows(t.sx, e.sx));
+      BOOST_TEST(sameRows(t.sy, e.sy));
+      BOOST_TEST(sameRows(t.tnear, e.tnear));
     }
   }
 }
