@@ -133,6 +133,20 @@ struct Lanes8 {
   _mm256_store_ps(values, _mm256_blendv_ps(_mm256_permutevar8x32_ps(v, lead), v, keep));
 }
 
+/// Gives every lane of the box rows outside `coherent` lane `lead`'s numbers (fillUnusedLanes).
+[[gnu::always_inline]] inline void spreadBoxRows(PacketBoxRays& rays, unsigned coherent,
+                                                 unsigned lead) {
+  if (coherent == kAllLanes) return;
+  const __m256 keep = Avx8LaneOps::laneMask(coherent);
+  const __m256i leadIndex = _mm256_set1_epi32(static_cast<int>(lead));
+  for (int a = 0; a < 3; ++a) {
+    spreadLane(rays.origin[a], keep, leadIndex);
+    spreadLane(rays.reciprocal[a], keep, leadIndex);
+  }
+  spreadLane(rays.tnear, keep, leadIndex);
+  spreadLane(rays.tfar, keep, leadIndex);
+}
+
 /// The BoxRayLoadFn of the AVX kernels: loadPacketBoxRays (PacketRays.h) eight lanes per
 /// instruction, with the same comparisons, minimum and division, so the same bits.
 unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, PacketBoxRays& out) {
@@ -182,16 +196,7 @@ unsigned loadBoxRaysAvx(const Ray* rays, const Hit* hits, unsigned& lanes, Packe
   _mm256_store_ps(out.tfar, row[7]);
   // Lanes of other signs take the first lane's values, in the rows as stored (the first lane's
   // reciprocal is what its direction gives), in place: the common case stores each row once.
-  if (coherent != kAllLanes) {
-    const __m256 keep = Avx8LaneOps::laneMask(coherent);
-    const __m256i lead = _mm256_set1_epi32(static_cast<int>(firstLane));
-    for (int a = 0; a < 3; ++a) {
-      spreadLane(out.origin[a], keep, lead);
-      spreadLane(out.reciprocal[a], keep, lead);
-    }
-    spreadLane(out.tnear, keep, lead);
-    spreadLane(out.tfar, keep, lead);
-  }
+  spreadBoxRows(out, coherent, firstLane);
   return coherent;
 }
 

@@ -149,16 +149,7 @@ LoadedLanes loadTransformedRowsAvx(const Ray* rays, const Affine3d& worldToObjec
   _mm256_store_ps(box.tfar,
                   _mm256_maskload_ps(tfar, _mm256_castps_si256(Avx8LaneOps::laneMask(lanes))));
   box.signs = signs;
-  if (coherent != kAllLanes) {
-    const __m256 keep = Avx8LaneOps::laneMask(coherent);
-    const __m256i leadIndex = _mm256_set1_epi32(static_cast<int>(first));
-    for (int a = 0; a < 3; ++a) {
-      spreadLane(box.origin[a], keep, leadIndex);
-      spreadLane(box.reciprocal[a], keep, leadIndex);
-    }
-    spreadLane(box.tnear, keep, leadIndex);
-    spreadLane(box.tfar, keep, leadIndex);
-  }
+  spreadBoxRows(box, coherent, first);
 
   // Triangle rows: the coherent lanes with the first lane's axis permutation.
   const LoadedLanes found = permutations.loaded(coherent, first);

@@ -381,17 +381,35 @@ bool sameRows(const T (&a)[N], const T (&b)[N]) {
   return true;
 }
 
+/// Every row and the axis permutation of two triangle-test loads, bit for bit.
+bool sameTriangleRows(const detail::PacketTriangleRays& t, const detail::PacketTriangleRays& e) {
+  bool same = t.kx == e.kx && t.ky == e.ky && t.kz == e.kz;
+  for (int a = 0; a < 3; ++a)
+    same = same && sameRows(t.origin[a], e.origin[a]) && sameRows(t.originD[a], e.originD[a]) &&
+           sameRows(t.directionD[a], e.directionD[a]);
+  return same && sameRows(t.sx, e.sx) && sameRows(t.sy, e.sy) && sameRows(t.tnear, e.tnear);
+}
+
+/// Runs trial(trial number, instruction set) `perIsa` times for each instruction set this CPU
+/// runs, in turn, with that set's kernels active.
+template <class Trial>
+void forEachIsaTrial(int perIsa, const Trial& trial) {
+  IsaGuard guard;
+  const std::vector<SimdIsa> isas = supportedSimdIsas();
+  for (int k = 0; k < perIsa * static_cast<int>(isas.size()); ++k) {
+    const SimdIsa isa = isas[static_cast<std::size_t>(k) % isas.size()];
+    BOOST_REQUIRE(setSimdIsa(isa));
+    trial(k, isa);
+  }
+}
+
 BOOST_AUTO_TEST_CASE(transformed_packets_load_as_mapped_object_rays) {
   // The packet walk loads a transformed instance's rows straight from the world rays, with the
   // kernels of each instruction set, and makes a lane's object ray only when a test reads it:
   // rows, lane sets and the rays made later must all be what mapping every lane (objectRayFor)
   // and loading them (loadPacket) give.
-  IsaGuard guard;
   std::mt19937 rng(43);
-  const std::vector<SimdIsa> isas = supportedSimdIsas();
-  for (int trial = 0; trial < 300 * static_cast<int>(isas.size()); ++trial) {
-    const SimdIsa isa = isas[static_cast<std::size_t>(trial) % isas.size()];
-    BOOST_REQUIRE(setSimdIsa(isa));
+  forEachIsaTrial(300, [&](int trial, SimdIsa isa) {
     const detail::PacketKernels& kernels = detail::activePacketKernels();
     const MappingTrial setup = makeMappingTrial(rng, trial, false);
     const auto& [inst, rays, tfar, lanes] = setup;
@@ -417,17 +435,7 @@ BOOST_AUTO_TEST_CASE(transformed_packets_load_as_mapped_object_rays) {
       BOOST_TEST(sameRows(loaded.box.tnear, expected.box.tnear));
       BOOST_TEST(sameRows(loaded.box.tfar, expected.box.tfar));
       BOOST_TEST(loaded.box.signs == expected.box.signs);
-      const detail::PacketTriangleRays& t = loaded.triangles;
-      const detail::PacketTriangleRays& e = expected.triangles;
-      BOOST_TEST((t.kx == e.kx && t.ky == e.ky && t.kz == e.kz));
-      for (int a = 0; a < 3; ++a) {
-        BOOST_TEST(sameRows(t.origin[a], e.origin[a]));
-        BOOST_TEST(sameRows(t.originD[a], e.originD[a]));
-        BOOST_TEST(sameRows(t.directionD[a], e.directionD[a]));
-      }
-      BOOST_TEST(sameRows(t.sx, e.sx));
-      BOOST_TEST(sameRows(t.sy, e.sy));
-      BOOST_TEST(sameRows(t.tnear, e.tnear));
+      BOOST_TEST(sameTriangleRows(loaded.triangles, expected.triangles));
       for (unsigned m = lanes; m != 0; m &= m - 1) {
         const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
         BOOST_TEST(sameObjectRay(detail::BvhAccel::packetLane(lazy, loaded, l), mapped.rays[l]),
@@ -435,7 +443,7 @@ BOOST_AUTO_TEST_CASE(transformed_packets_load_as_mapped_object_rays) {
       }
       BOOST_TEST(loaded.unmappedLanes == 0u);
     }
-  }
+  });
 }
 
 BOOST_AUTO_TEST_CASE(identity_packets_load_as_mapped_object_rays) {
@@ -443,12 +451,8 @@ BOOST_AUTO_TEST_CASE(identity_packets_load_as_mapped_object_rays) {
   // direction signs) straight from the world rays, with the kernels of each instruction set: rows
   // and lane sets must be what mapping every lane and loading them (loadPacket) give. Every other
   // trial's directions share one octant and dominant axis, which takes the whole-row path.
-  IsaGuard guard;
   std::mt19937 rng(47);
-  const std::vector<SimdIsa> isas = supportedSimdIsas();
-  for (int trial = 0; trial < 300 * static_cast<int>(isas.size()); ++trial) {
-    const SimdIsa isa = isas[static_cast<std::size_t>(trial) % isas.size()];
-    BOOST_REQUIRE(setSimdIsa(isa));
+  forEachIsaTrial(300, [&](int trial, SimdIsa isa) {
     MappingTrial setup = makeMappingTrial(rng, trial, true);
     if (trial % 2 == 0)
       for (Ray& r : setup.rays)
@@ -465,22 +469,13 @@ BOOST_AUTO_TEST_CASE(identity_packets_load_as_mapped_object_rays) {
     const detail::LoadedLanes found =
         detail::activePacketKernels().loadIdentityRows(setup.rays, lanes, t);
     detail::setTrianglePermutation(found, t);
-    const detail::PacketTriangleRays& e = expected.triangles;
     BOOST_TEST_CONTEXT("trial " << trial << ", " << simdIsaName(isa)) {
       if (trial % 4 == 0) BOOST_TEST(found.filtered == detail::kAllLanes);
       BOOST_TEST(found.coherent == lanes);
       BOOST_TEST(found.filtered == expected.filtered);
-      BOOST_TEST((t.kx == e.kx && t.ky == e.ky && t.kz == e.kz));
-      for (int a = 0; a < 3; ++a) {
-        BOOST_TEST(sameRows(t.origin[a], e.origin[a]));
-        BOOST_TEST(sameRows(t.originD[a], e.originD[a]));
-        BOOST_TEST(sameRows(t.directionD[a], e.directionD[a]));
-      }
-      BOOST_TEST(sameRows(t.sx, e.sx));
-      BOOST_TEST(sameRows(t.sy, e.sy));
-      BOOST_TEST(sameRows(t.tnear, e.tnear));
+      BOOST_TEST(sameTriangleRows(t, expected.triangles));
     }
-  }
+  });
 }
 
 BOOST_AUTO_TEST_CASE(packets_match_reference) {
