@@ -15,14 +15,8 @@ namespace tg::detail {
 namespace {
 
 struct Avx2NodeTest : Avx8LaneOps {
-  /// Eight-lane loads of the rays cost as much as keeping them; only the sign of tnear is
-  /// decided once per walk.
-  explicit Avx2NodeTest(const PacketBoxRays& rays)
-      : nonNegativeTnear(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_load_ps(rays.tnear),
-                                                          _mm256_setzero_ps(), _CMP_GE_OQ)) ==
-                         0xFF) {}
-  /// Every lane's tnear is >= 0: the interval ends widen by one product (see Bvh4.h).
-  bool nonNegativeTnear;
+  /// Eight-lane loads of the rays cost as much as keeping them: no per-walk state.
+  explicit Avx2NodeTest(const PacketBoxRays&) {}
   template <class Rows>
   void test(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes, unsigned hit[4],
             float entry[4][kPacketLanes]) const {
@@ -44,7 +38,7 @@ struct Avx2NodeTest : Avx8LaneOps {
         tmin = _mm256_max_ps(n, tmin);
         tmax = _mm256_min_ps(f, tmax);
       }
-      widenSlabInterval8(tmin, tmax, nonNegativeTnear);
+      widenSlabInterval8(tmin, tmax, Rows::nonNegativeTnear);
       _mm256_store_ps(entry[s], tmin);
       hit[s] =
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OS))) & lanes;

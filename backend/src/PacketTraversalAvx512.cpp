@@ -35,9 +35,7 @@ struct Avx512NodeTest : Avx8LaneOps {
   /// The rays' fixed values with their lanes duplicated into both halves, once per walk: the
   /// permutes would otherwise be a quarter of every node test. tfar changes during the walk and
   /// is read per node.
-  explicit Avx512NodeTest(const PacketBoxRays& rays)
-      : tnear(duplicateLanes(rays.tnear)),
-        nonNegativeTnear(_mm512_cmp_ps_mask(tnear, _mm512_setzero_ps(), _CMP_GE_OQ) == 0xFFFFu) {
+  explicit Avx512NodeTest(const PacketBoxRays& rays) : tnear(duplicateLanes(rays.tnear)) {
     for (int a = 0; a < 3; ++a) {
       origin[a] = duplicateLanes(rays.origin[a]);
       reciprocal[a] = duplicateLanes(rays.reciprocal[a]);
@@ -45,8 +43,6 @@ struct Avx512NodeTest : Avx8LaneOps {
   }
 
   __m512 tnear;
-  /// Every lane's tnear is >= 0: the interval ends widen by one product (see Bvh4.h).
-  bool nonNegativeTnear;
   __m512 origin[3], reciprocal[3];
 
   template <class Rows>
@@ -65,7 +61,7 @@ struct Avx512NodeTest : Avx8LaneOps {
         tmin = _mm512_max_ps(n, tmin);
         tmax = _mm512_min_ps(f, tmax);
       }
-      if (nonNegativeTnear) {
+      if constexpr (Rows::nonNegativeTnear) {
         tmin = _mm512_mul_ps(tmin, _mm512_set1_ps(1.0f - kBvhIntervalSlack));
         tmax = _mm512_mul_ps(tmax, _mm512_set1_ps(1.0f + kBvhIntervalSlack));
       } else {
