@@ -91,12 +91,16 @@ inline void shearPacket(const float* xRow, const float* yRow, const float* zRow,
   out.swapped = swapped;
 }
 
-/// The triangle rows of `lanes` (not empty) of an identity instance's packet, whose object rays
-/// are the world rays, from the rays' rows and their shear: what BvhAccel::loadPacket gathers
-/// from the object rays, straight from the same rows (kx, ky and kz left to the caller). Lanes
-/// without the first lane's axis permutation hold its values.
-inline LoadedLanes writeIdentityTriangleRows(const PacketRayRows& rows, const PacketShear& shear,
-                                             unsigned lanes, PacketTriangleRays& tri) {
+/// The IdentityRowsFn of the portable kernels: the rays' rows and their shear, four lanes at a
+/// time (shearPacket), then the triangle rows of `lanes` (not empty) straight from them: what
+/// BvhAccel::loadPacket gathers from the object rays of an identity instance, which are the
+/// world rays (kx, ky and kz left to the caller). Lanes without the first lane's axis
+/// permutation hold its values.
+inline LoadedLanes loadIdentityRows(const Ray* rays, unsigned lanes, PacketTriangleRays& tri) {
+  PacketRayRows rows;
+  loadRayRows(rays, rows);
+  PacketShear shear;
+  shearPacket(rows.row[4], rows.row[5], rows.row[6], shear);
   // The permutation is fixed by kz and the swap: lanes whose three bits equal the first lane's.
   const unsigned lead = static_cast<unsigned>(__builtin_ctz(lanes));
   const unsigned filtered = shear.samePermutation(lanes, lead);
@@ -134,16 +138,6 @@ inline LoadedLanes writeIdentityTriangleRows(const PacketRayRows& rows, const Pa
   return found;
 }
 
-/// The IdentityRowsFn of the portable kernels: the rays' rows, their shear four lanes at a time
-/// (shearPacket), then writeIdentityTriangleRows.
-inline LoadedLanes loadIdentityRows(const Ray* rays, unsigned lanes, PacketTriangleRays& tri) {
-  PacketRayRows rows;
-  loadRayRows(rays, rows);
-  PacketShear shear;
-  shearPacket(rows.row[4], rows.row[5], rows.row[6], shear);
-  return writeIdentityTriangleRows(rows, shear, lanes, tri);
-}
-
 /// Sets the axis permutation of `tri` from what a row load found of its first lane.
 inline void setTrianglePermutation(const LoadedLanes& found, PacketTriangleRays& tri) {
   tri.kz = found.kz;
@@ -156,15 +150,12 @@ inline void setTrianglePermutation(const LoadedLanes& found, PacketTriangleRays&
 /// permutation per lane and scattering the divisions' operands were most of the scalar
 /// mapping's work.
 ///
-/// With `triangles`, also writes the SIMD triangle test's rows of `lanes`
-/// (writeIdentityTriangleRows) and returns the lanes that share the first lane's axis
-/// permutation, which that test takes. Returns 0 without. (A packet walk whose lanes all take
-/// the SIMD tests needs only those rows: it loads them with its kernels' loadIdentityRows and
-/// makes a lane's ray when a test needs it, BvhAccel::packetLane. Writing every ray of the
-/// packet was a tenth of a museum packet's time from outside.)
-inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
-                                  const float* tfar, ObjectRayPacket& out,
-                                  PacketTriangleRays* triangles = nullptr) {
+/// (A packet walk whose lanes all take the SIMD tests needs only their triangle rows: it loads
+/// them with its kernels' loadIdentityRows and makes a lane's ray when a test needs it,
+/// BvhAccel::packetLane. Writing every ray of the packet was a tenth of a museum packet's time
+/// from outside.)
+inline void mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, unsigned lanes,
+                              const float* tfar, ObjectRayPacket& out) {
   PacketRayRows rows;
   loadRayRows(rays, rows);
   PacketShear shear;
@@ -191,10 +182,6 @@ inline unsigned mapIdentityPacket(const InstanceRecord& inst, const Ray* rays, u
     r.instanceId = inst.instanceId;
     r.objectId = inst.objectId;
   }
-  if (triangles == nullptr || lanes == 0) return 0;
-  const LoadedLanes found = writeIdentityTriangleRows(rows, shear, lanes, *triangles);
-  setTrianglePermutation(found, *triangles);
-  return found.filtered;
 }
 
 /// Writes out.rays[l] = objectRayFor(inst, rays[l], tfar[l]) for every lane l of `lanes`, bit for

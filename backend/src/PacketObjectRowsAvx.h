@@ -1,6 +1,8 @@
 // The object rows of a packet entering an instance, for the AVX2 and AVX-512 kernels. Include
 // only from translation units compiled with AVX2 and without contraction, after
-// PacketLanesAvx.h. Internal header: not installed.
+// PacketLanesAvx.h. PacketShear's permutation rules are written again here (PermutationBits)
+// rather than called: its inline functions are baseline code, which a kernel must not compile
+// into a copy of its own (see PacketKernel.h). Internal header: not installed.
 #pragma once
 
 #include <immintrin.h>
