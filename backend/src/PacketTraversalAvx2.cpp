@@ -15,6 +15,8 @@ namespace tg::detail {
 namespace {
 
 struct Avx2NodeTest : Avx8LaneOps {
+  /// The widening of the box intervals follows the tnear sign (widenSlabInterval8).
+  static constexpr bool kReadsTnearSign = true;
   /// Eight-lane loads of the rays cost as much as keeping them: no per-walk state.
   explicit Avx2NodeTest(const PacketBoxRays&) {}
   template <class Rows>

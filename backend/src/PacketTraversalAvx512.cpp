@@ -32,6 +32,8 @@ inline __m512 slotPair(const float* row, int s) {
 }
 
 struct Avx512NodeTest : Avx8LaneOps {
+  /// The widening of the box intervals follows the tnear sign.
+  static constexpr bool kReadsTnearSign = true;
   /// The rays' fixed values with their lanes duplicated into both halves, once per walk: the
   /// permutes would otherwise be a quarter of every node test. tfar changes during the walk and
   /// is read per node.

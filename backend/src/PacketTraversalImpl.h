@@ -6,7 +6,8 @@
 // but tfar); its test<Rows>(node, rays, lanes, hit, entry), with Rows the walk's WalkConstants,
 // tests the four child boxes of `node` against the lanes in `lanes` and writes, per slot, the
 // lanes that hit it (hit[s]) and each lane's widened entry distance (entry[s][lane]), with
-// exactly the arithmetic of intersectBvh4Node.
+// exactly the arithmetic of intersectBvh4Node. Its constant kReadsTnearSign says whether the test
+// reads Rows::nonNegativeTnear; a test that does not is compiled once per octant only.
 // NodeTest also provides the lane operations of ScalarLaneOps (by deriving from it or from a
 // wider version with the same answers).
 #pragma once
@@ -165,22 +166,23 @@ unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_
 }
 
 /// walkPacket for each WalkConstants, indexed by the octant's sign bits plus 8 when every lane's
-/// tnear is >= 0. A plain array in this header's unnamed namespace: a std::array would be
-/// instantiated alike in every kernel's translation unit, each compiled with its own instruction
-/// set (see PacketKernel.h).
+/// tnear is >= 0 (the same walks in both halves for a NodeTest that does not read the tnear
+/// sign). A plain array in this header's unnamed namespace: a std::array would be instantiated
+/// alike in every kernel's translation unit, each compiled with its own instruction set (see
+/// PacketKernel.h).
 template <class NodeTest, unsigned... Signs>
 struct OctantWalks {
   static constexpr PacketTraverseFn walks[2 * sizeof...(Signs)] = {
       &walkPacket<NodeTest, WalkConstants<Signs, false>>...,
-      &walkPacket<NodeTest, WalkConstants<Signs, true>>...};
+      &walkPacket<NodeTest, WalkConstants<Signs, NodeTest::kReadsTnearSign>>...};
 };
 
-/// walkPacket for the octant and tnear signs of `rays` (PacketTraverseFn): sixteen copies of the
-/// walk, since a packet's lanes share their direction signs. Callgrind, primary packets from the
-/// BART cameras (AVX2 kernels): kitchen 7.1% and robots 9.1% fewer instructions with the octant's
-/// rows as constants than with row numbers read from the packet; with the tnear test out of the
-/// node test, 14% and 16% fewer mispredicted branches in Callgrind's model (a test and branch
-/// per slot, and the instructions 0.1% and 0.7% fewer).
+/// walkPacket for the octant and tnear signs of `rays` (PacketTraverseFn): a copy of the walk
+/// per octant and, where the node test reads it, tnear sign, since a packet's lanes share them.
+/// Callgrind, primary packets from the BART cameras (AVX2 kernels): kitchen 7.1% and robots 9.1%
+/// fewer instructions with the octant's rows as constants than with row numbers read from the
+/// packet; with the tnear test out of the node test, 14% and 16% fewer mispredicted branches in
+/// Callgrind's model (a test and branch per slot, and the instructions 0.1% and 0.7% fewer).
 template <class NodeTest>
 unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
                         PacketBoxRays& rays, unsigned lanes, bool anyHit, AnyHitOrder anyHitOrder,

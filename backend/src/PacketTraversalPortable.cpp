@@ -13,6 +13,8 @@ namespace tg::detail {
 namespace {
 
 struct PortableNodeTest : ScalarLaneOps {
+  /// The widening is the same whatever the tnear sign: no walk per sign.
+  static constexpr bool kReadsTnearSign = false;
   /// No per-walk state.
   explicit PortableNodeTest(const PacketBoxRays&) {}
   template <class Rows>
