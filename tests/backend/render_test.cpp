@@ -523,6 +523,38 @@ BOOST_AUTO_TEST_CASE(rays_spawned_in_place_equal_returned_rays_even_from_their_o
   }
 }
 
+BOOST_AUTO_TEST_CASE(ray_origins_depend_on_the_direction_only_through_its_side) {
+  // The shader makes one origin per side of a surface (leavesBelow) and spawns the shadow rays
+  // of all the lights on that side from it (spawnRayFrom): that must give spawnRayTo's bits.
+  const auto sameBits = [](const auto& a, const auto& b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> coord(-1e3f, 1e3f);
+  std::size_t below = 0, above = 0;
+  for (int i = 0; i < 2000; ++i) {
+    SurfacePoint sp;
+    sp.position = {coord(rng), coord(rng), coord(rng)};
+    sp.geometricNormal = normalize(Vec3f{coord(rng), coord(rng), coord(rng)});
+    sp.error = std::ldexp(1.0f, -static_cast<int>(rng() % 30));
+    const Vec3f first{coord(rng), coord(rng), coord(rng)};
+    const Vec3f shared = offsetRayOrigin(sp, first - sp.position);
+    for (int k = 0; k < 8; ++k) {
+      // Targets in the plane of the surface too, where the side is decided by a zero.
+      const Vec3f target = k == 0 ? sp.position : Vec3f{coord(rng), coord(rng), coord(rng)};
+      const Vec3f w = target - sp.position;
+      if (leavesBelow(sp, w) != leavesBelow(sp, first - sp.position)) continue;
+      (leavesBelow(sp, w) ? below : above) += 1;
+      BOOST_TEST(sameBits(offsetRayOrigin(sp, w), shared));
+      Ray fromShared;
+      spawnRayFrom(shared, target, fromShared);
+      BOOST_TEST(sameBits(fromShared, spawnRayTo(sp, target)));
+    }
+  }
+  BOOST_TEST(below > 1000u);
+  BOOST_TEST(above > 1000u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Refraction (hard cases 15 and 16)
 

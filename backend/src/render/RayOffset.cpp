@@ -62,7 +62,7 @@ Vec3f offsetRayOrigin(const SurfacePoint& sp, const Vec3f& w) {
   const Vec3f& n = sp.geometricNormal;
   const float distance = sp.error * (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
   Vec3f offset = n * distance;
-  if (dot(w, n) < 0.0f) offset = -offset;
+  if (leavesBelow(sp, w)) offset = -offset;
   const Vec3f o = sp.position + offset;
   // The addition itself rounds; step one more ulp outwards so it can only round away. Written
   // per component (not through o[i]) so that the result stays in registers.
@@ -89,7 +89,11 @@ Ray spawnRay(const SurfacePoint& sp, const Vec3f& w) {
 
 void spawnRayTo(const SurfacePoint& sp, const Vec3f& target, Ray& out) {
   // Computed before `out` is written: target may be one of its fields.
-  const Vec3f origin = offsetRayOrigin(sp, target - sp.position);
+  spawnRayFrom(offsetRayOrigin(sp, target - sp.position), target, out);
+}
+
+void spawnRayFrom(const Vec3f& origin, const Vec3f& target, Ray& out) {
+  // Both read before `out` is written: either may be one of its fields.
   const Vec3f direction = target - origin;
   // Stop short of the target by a bound of the same kind as the origin offset, relative to the
   // larger of the two magnitudes, plus a few ulps for the rounding of t itself.

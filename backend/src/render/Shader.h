@@ -68,7 +68,11 @@ struct SurfaceShading {
   Vec3f diffuse;                      ///< diffuse colour after texturing
   Vec3f color;                        ///< accumulated: ambient, then the unshadowed light terms
   std::optional<SurfacePoint> point;  ///< refined hit point, computed on first use
-  HighlightLimits highlight;          ///< of the material
+  /// Origins of rays leaving `point` above (0) and below (1) the surface (offsetRayOrigin),
+  /// each made on first use: the shadow rays of every light on one side share one.
+  Vec3f spawnOrigin[2];
+  unsigned spawnOriginsMade = 0;  ///< bit s set once spawnOrigin[s] is made
+  HighlightLimits highlight;      ///< of the material
   /// Width of the ray's cone at the hit (ray cones; 0 unless textures are mip-mapped).
   float coneWidth = 0.0f;
 };

@@ -662,10 +662,20 @@ void Shader::forEachLightTerm(SurfaceShading& sh, TileCounters& counters, Slot&&
     term.needsShadowRay = false;
     if (whitted_) {
       // Written in place (see spawnRay): a returned ray copied in here stalled on its stores.
-      if (atInfinity)
-        spawnRay(surface(sh), direction, term.shadow);
-      else
-        spawnRayTo(surface(sh), position, term.shadow);
+      const SurfacePoint& sp = surface(sh);
+      if (atInfinity) {
+        spawnRay(sp, direction, term.shadow);
+      } else {
+        // spawnRayTo(sp, position, term.shadow), its origin made once per side of the surface
+        // and shared by the lights on that side.
+        const Vec3f w = position - sp.position;
+        const unsigned side = leavesBelow(sp, w) ? 1u : 0u;
+        if (!(sh.spawnOriginsMade & (1u << side))) {
+          sh.spawnOrigin[side] = offsetRayOrigin(sp, w);
+          sh.spawnOriginsMade |= 1u << side;
+        }
+        spawnRayFrom(sh.spawnOrigin[side], position, term.shadow);
+      }
       if (term.shadow.tfar > 0.0f) {
         ++counters.traced.shadow;
         term.needsShadowRay = true;

@@ -61,5 +61,14 @@ void spawnRay(const SurfacePoint& sp, const Vec3f& w, Ray& out);
 Ray spawnRayTo(const SurfacePoint& sp, const Vec3f& target);
 /// spawnRayTo written into `out` field by field (see spawnRay).
 void spawnRayTo(const SurfacePoint& sp, const Vec3f& target, Ray& out);
+/// True when offsetRayOrigin(sp, w) offsets to the side the geometric normal points away from
+/// (dot(w, n) < 0): the origin depends on `w` only through this side, so rays from one point
+/// can share the two origins.
+inline bool leavesBelow(const SurfacePoint& sp, const Vec3f& w) {
+  return dot(w, sp.geometricNormal) < 0.0f;
+}
+/// spawnRayTo(sp, target, out) given its origin, offsetRayOrigin(sp, target - sp.position)
+/// (computed once per side of the surface for the shadow rays of several lights).
+void spawnRayFrom(const Vec3f& origin, const Vec3f& target, Ray& out);
 
 }  // namespace tg
