@@ -109,6 +109,9 @@ struct WaveScratch {
     std::vector<SecondaryRays> secondary;
     std::vector<std::uint32_t> reflectionChild, refractionChild;  ///< into the next level
     std::vector<Vec3f> color;  ///< the light arriving along each ray
+    /// The rays that hit something, in order: the loops over a level's hits (one per light
+    /// among them) read this instead of testing every ray's `shading`, a wide entry each.
+    std::vector<std::uint32_t> hitRays;
   };
   /// Levels by depth; a deque, so that adding one never moves the others.
   std::deque<Level> levels;

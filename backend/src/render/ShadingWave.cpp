@@ -88,8 +88,10 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
   // Not cleared: collectLightTerms resets the flags of every hit's terms, and only hits' terms
   // are read (clearing the whole table cost more than filling it).
   scratch.terms.resize(lights * n);
+  level.hitRays.clear();
   for (std::size_t k = 0; k < n; ++k) {
     if (!level.hits[k].valid()) continue;
+    level.hitRays.push_back(static_cast<std::uint32_t>(k));
     level.sds[k] = scene_.surfaceAt(level.rays[k], level.hits[k]);
     level.shading[k].emplace(prepare(level.rays[k], level.hits[k], *level.sds[k], level.cone[k]));
     collectLightTerms(*level.shading[k], counters, scratch.terms.data() + k * lights);
@@ -98,11 +100,10 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
   for (std::size_t j = 0; j < lights; ++j) {
     scratch.shadowRays.clear();
     scratch.shadowOwner.clear();
-    for (std::size_t k = 0; k < n; ++k)
-      if (const LightTerm& term = scratch.terms[k * lights + j];
-          level.shading[k] && term.needsShadowRay) {
+    for (const std::uint32_t k : level.hitRays)
+      if (const LightTerm& term = scratch.terms[k * lights + j]; term.needsShadowRay) {
         scratch.shadowRays.push_back(term.shadow);
-        scratch.shadowOwner.push_back(static_cast<std::uint32_t>(k));
+        scratch.shadowOwner.push_back(k);
       }
     if (scratch.shadowRays.empty()) continue;
     scratch.blocked.resize(scratch.shadowRays.size());
@@ -113,8 +114,7 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
         scratch.terms[scratch.shadowOwner[i] * lights + j].contributes = false;
   }
   // The lights in order (the single-ray sum's order), then the rays leaving each hit.
-  for (std::size_t k = 0; k < n; ++k) {
-    if (!level.shading[k]) continue;
+  for (const std::uint32_t k : level.hitRays) {
     SurfaceShading& sh = *level.shading[k];
     for (std::size_t j = 0; j < lights; ++j) {
       const LightTerm& term = scratch.terms[k * lights + j];
@@ -124,15 +124,15 @@ void Shader::shadeWaveLevel(std::size_t depth, TraversalContext& ctx, TileCounte
   }
   // All reflection rays, then all refraction rays: neighbours of one kind stay together.
   // `secondary` holds this level's plans for hits only (misses keep an earlier tile's).
-  for (std::size_t k = 0; k < n; ++k)
-    if (level.shading[k] && level.secondary[k].reflects) {
+  for (const std::uint32_t k : level.hitRays)
+    if (level.secondary[k].reflects) {
       level.reflectionChild[k] = static_cast<std::uint32_t>(next.rays.size());
       next.rays.push_back(level.secondary[k].reflection);
       next.weight.push_back(level.secondary[k].reflectionPathWeight);
       next.cone.push_back(level.shading[k]->coneWidth);
     }
-  for (std::size_t k = 0; k < n; ++k)
-    if (level.shading[k] && level.secondary[k].refracts) {
+  for (const std::uint32_t k : level.hitRays)
+    if (level.secondary[k].refracts) {
       level.refractionChild[k] = static_cast<std::uint32_t>(next.rays.size());
       next.rays.push_back(level.secondary[k].refraction);
       next.weight.push_back(level.secondary[k].refractionPathWeight);
