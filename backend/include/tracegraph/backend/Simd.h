@@ -30,8 +30,10 @@ std::optional<SimdIsa> parseSimdIsa(std::string_view name);
 /// Instruction sets this build contains and this CPU runs, slowest first.
 std::vector<SimdIsa> supportedSimdIsas();
 
-/// The instruction set the packet kernels use now: the fastest supported one, unless the
-/// environment variable TG_SIMD names another supported one, or setSimdIsa chose one.
+/// The instruction set the packet kernels use now: the widest supported one (AVX2 rather than
+/// AVX-512 on CPUs that run 512-bit operations as two 256-bit halves, AMD's family 19h, where
+/// the AVX2 kernels are faster), unless the environment variable TG_SIMD names another
+/// supported one, or setSimdIsa chose one.
 SimdIsa activeSimdIsa();
 
 /// Makes the packet kernels use `isa` (for tests and benchmarks that compare kernels). Returns
