@@ -61,6 +61,21 @@ constexpr std::uint16_t kHintWorthRate = 65536 / 5;
 /// While the rate is below kHintWorthRate, the hint is tested on one query in this many.
 constexpr std::uint16_t kHintProbeInterval = 8;
 
+/// A node holding `box` in slot 0 and nothing in the others: the box, for the node test's
+/// widened arithmetic (see meetsOneBox).
+Bvh4Node oneBoxNode(const Box3f& box) {
+  Bvh4Node node = Bvh4Node::makeEmpty();
+  node.setBounds(0, box);
+  return node;
+}
+
+/// True when `ray` meets the box of a oneBoxNode within [tnear, tfar]: a box test before a
+/// walk's set-up, which keeps every ray the walk below it could keep.
+bool meetsOneBox(const Bvh4Node& node, const Bvh4Ray& ray, float tfar) {
+  float entry[4];
+  return (intersectBvh4Node(node, ray, tfar, entry) & 1u) != 0;
+}
+
 /// True when `accel` is a BvhAccel, whose packet walk takes rays loaded once per top-level walk.
 bool isBvhAccel(const ObjectAccel& accel) {
   return accel.kind() == AccelKind::Bvh || accel.kind() == AccelKind::BvhFast;
@@ -105,8 +120,7 @@ void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
     const InstanceRecord& inst = instances_[prims_[0].id];
     if (inst.identity && isBvhAccel(*inst.accel)) {
       soleIdentity_ = prims_[0].id;
-      soleBounds_ = Bvh4Node::makeEmpty();
-      soleBounds_.setBounds(0, inst.accel->bounds());
+      soleBounds_ = oneBoxNode(inst.accel->bounds());
     }
   }
   if (prims_.size() <= kOpenMaxInstances) openIdentityInstances();
@@ -149,8 +163,7 @@ void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
   } else {
     copyIds(0, refs_.size());
   }
-  outerBounds_ = Bvh4Node::makeEmpty();
-  if (!bvh_.nodes.empty()) outerBounds_.setBounds(0, bvh_.bounds);
+  outerBounds_ = bvh_.nodes.empty() ? Bvh4Node::makeEmpty() : oneBoxNode(bvh_.bounds);
   // Closest-hit single rays from inside the top level's box walk eight-wide twins where the
   // CPU runs AVX2 (Bvh8Walk.h). One thread, alternating processes, time as a share of Embree
   // MEDIUM's rtcIntersect1: robots from its camera (the top level 13.2 of a ray's 17.7 node
@@ -256,8 +269,7 @@ bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) con
     // Its bounds first: from outside a scene many rays miss them, and then need neither the
     // object ray's shear constants nor a walk (the flattened BART kitchen from outside traced
     // 15% faster, from its camera 2-4% slower). Counted as the visit of the root it stands for.
-    float entry[4];
-    if (!(intersectBvh4Node(soleBounds_, box, tfar, entry) & 1u)) {
+    if (!meetsOneBox(soleBounds_, box, tfar)) {
       ++ctx.nodeVisits;
       return false;
     }
@@ -274,8 +286,7 @@ bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) con
     // kitchen's bounds) then cost one box test. Counted as the visit of the root it stands for.
     // Two-level overhead (`tg-bench overhead`, one thread, alternating processes): kitchen
     // 1.108 and 1.109 -> 1.034 and 1.034, robots 1.069 and 1.057 -> 0.997 and 1.002.
-    float entry[4];
-    if (!(intersectBvh4Node(outerBounds_, box, tfar, entry) & 1u)) {
+    if (!meetsOneBox(outerBounds_, box, tfar)) {
       ++ctx.nodeVisits;
       return false;
     }
