@@ -163,6 +163,11 @@ using TransformedRowsFn = LoadedLanes (*)(const Ray* rays, const Affine3d& world
 using IdentityRowsFn = LoadedLanes (*)(const Ray* rays, unsigned lanes,
                                        PacketTriangleRays& triangles);
 
+/// The lanes of `lanes` whose rays meet the box in slot 0 of `node` (a Bvh4Node with one
+/// used slot) within [tnear, tfar], with the walks' box arithmetic.
+using PacketOneBoxFn = unsigned (*)(const Bvh4Node& node, const PacketBoxRays& rays,
+                                    unsigned lanes);
+
 /// The kernels of one instruction set.
 struct PacketKernels {
   /// The packet load of the top-level walk.
@@ -175,6 +180,8 @@ struct PacketKernels {
   TransformedRowsFn loadTransformedRows = nullptr;
   /// The triangle rows of a packet entering identity instances.
   IdentityRowsFn loadIdentityRows = nullptr;
+  /// The test of one box, before the walk (the top level's box for packets from outside it).
+  PacketOneBoxFn meetsOneBox = nullptr;
 };
 
 /// The portable kernels (SSE on x86-64).

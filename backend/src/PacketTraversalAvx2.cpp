@@ -8,6 +8,7 @@
 
 #include "PacketLanesAvx.h"
 #include "PacketObjectRowsAvx.h"
+#include "PacketOneBox8.h"
 #include "PacketTraversalImpl.h"
 #include "SlabWidening8.h"
 
@@ -52,7 +53,7 @@ struct Avx2NodeTest : Avx8LaneOps {
 
 PacketKernels packetKernelsAvx2() {
   return packetKernelsWith<Avx2NodeTest, Lanes8>(&loadBoxRaysAvx, &loadTransformedRowsAvx,
-                                                 &loadIdentityRowsAvx);
+                                                 &loadIdentityRowsAvx, &meetsOneBoxAvx);
 }
 
 }  // namespace tg::detail

@@ -15,6 +15,7 @@
 
 #include "PacketLanesAvx.h"
 #include "PacketObjectRowsAvx.h"
+#include "PacketOneBox8.h"
 #include "PacketTraversalImpl.h"
 
 namespace tg::detail {
@@ -87,7 +88,7 @@ struct Avx512NodeTest : Avx8LaneOps {
 
 PacketKernels packetKernelsAvx512() {
   return packetKernelsWith<Avx512NodeTest, Lanes8>(&loadBoxRaysAvx, &loadTransformedRowsAvx,
-                                                   &loadIdentityRowsAvx);
+                                                   &loadIdentityRowsAvx, &meetsOneBoxAvx);
 }
 
 }  // namespace tg::detail

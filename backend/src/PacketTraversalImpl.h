@@ -198,13 +198,17 @@ unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uin
                                                                  single, user, nodeVisits);
 }
 
-/// The kernels of one instruction set: the packet loads, the walk with its node test and the
-/// triangle test with its lane type.
+/// The kernels of one instruction set: the packet loads, the walk with its node test, the
+/// triangle test with its lane type and the one-box test.
 template <class NodeTest, class Lanes>
 PacketKernels packetKernelsWith(BoxRayLoadFn load, TransformedRowsFn loadTransformedRows,
-                                IdentityRowsFn loadIdentityRows) {
-  return {load, &traversePacket<NodeTest>, &testTrianglesWith<Lanes>, loadTransformedRows,
-          loadIdentityRows};
+                                IdentityRowsFn loadIdentityRows, PacketOneBoxFn meetsOneBox) {
+  return {load,
+          &traversePacket<NodeTest>,
+          &testTrianglesWith<Lanes>,
+          loadTransformedRows,
+          loadIdentityRows,
+          meetsOneBox};
 }
 
 }  // namespace

@@ -182,11 +182,33 @@ struct Lanes1 {
 using PortableLanes = Lanes1;
 #endif
 
+/// The portable PacketOneBoxFn: PortableNodeTest's arithmetic lane by lane for the one slot.
+unsigned meetsOneBoxPortable(const Bvh4Node& node, const PacketBoxRays& rays, unsigned lanes) {
+  unsigned mask = 0;
+  for (unsigned l = 0; l < kPacketLanes; ++l) {
+    float tmin = rays.tnear[l], tmax = rays.tfar[l];
+    for (int a = 0; a < 3; ++a) {
+      const auto negative = static_cast<int>((rays.signs >> a) & 1u);
+      const float n =
+          (node.bounds[2 * a + negative][0] - rays.origin[a][l]) * rays.reciprocal[a][l];
+      const float f =
+          (node.bounds[2 * a + 1 - negative][0] - rays.origin[a][l]) * rays.reciprocal[a][l];
+      // Written so that NaN keeps the interval, as MAXPS and MINPS do.
+      tmin = n > tmin ? n : tmin;
+      tmax = f < tmax ? f : tmax;
+    }
+    tmin -= (tmin < 0.0f ? -tmin : tmin) * kBvhIntervalSlack;
+    tmax += (tmax < 0.0f ? -tmax : tmax) * kBvhIntervalSlack;
+    if (tmin <= tmax) mask |= 1u << l;
+  }
+  return mask & lanes;
+}
+
 }  // namespace
 
 PacketKernels packetKernelsPortable() {
   return packetKernelsWith<PortableNodeTest, PortableLanes>(
-      &loadPacketBoxRays, &loadTransformedRows, &loadIdentityRows);
+      &loadPacketBoxRays, &loadTransformedRows, &loadIdentityRows, &meetsOneBoxPortable);
 }
 
 }  // namespace tg::detail

@@ -613,12 +613,22 @@ struct TopLevelPacketWalk {
     while (laneCount(lanes) >= kMinPacketLanes) {
       TopLevelPacketWalk walk(top, rays, hits, &ctx, &kernels);
       PacketBoxRays boxRays;
-      const unsigned group = walk.load(lanes, boxRays);
+      unsigned group = walk.load(lanes, boxRays);
       lanes &= ~group;
       if (group == 0) break;
       if (laneCount(group) < kMinPacketLanes) {
         alone |= group;
         continue;
+      }
+      // Packets from outside the top level's box test that box first, as single rays do: its
+      // lanes that miss it are done (no hit, not occluded), and a packet all of whose lanes
+      // miss (most of those from a camera framing a scene's bounds) skips the walk and its
+      // set-up. One thread, 640x480, from a camera framing the BART scenes' bounds, alternating
+      // processes: museum 0.99 -> 1.02-1.03 of rtcIntersect8's speed, kitchen 2-4% and robots
+      // 3-4% less time; from the files' cameras, whose origins lie inside, unchanged.
+      if (!top->bvh_.bounds.contains(rays[__builtin_ctz(group)].origin)) {
+        group = kernels.meetsOneBox(top->outerBounds_, boxRays, group);
+        if (group == 0) continue;
       }
       // Any hits farthest first, as single rays walk the top level (AnyHitOrder).
       found |= kernels.traverse(top->bvh_.nodes.data(), 0, 0, boxRays, group, anyHit,

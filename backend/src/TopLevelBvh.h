@@ -92,8 +92,8 @@ class TopLevelBvh final : public TopLevelAccel {
   /// leave before any object-ray set-up.
   Bvh4Node soleBounds_ = Bvh4Node::makeEmpty();
   /// The box of the whole top level (bvh_.bounds) in slot 0, the other slots empty: closest-hit
-  /// single rays from outside it test it before any set-up of the walk, as rays meet
-  /// soleBounds_.
+  /// single rays and packets from outside it test it before any set-up of the walk, as rays
+  /// meet soleBounds_.
   Bvh4Node outerBounds_ = Bvh4Node::makeEmpty();
   std::vector<Ref> refs_;     ///< leaf order
   std::vector<Ref> opened_;   ///< build scratch: what the primitives' ids name
