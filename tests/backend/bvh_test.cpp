@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "IntervalChecks.h"
+#include "IsaGuard.h"
 #include "TestGeometry.h"
 #include "tracegraph/backend/Simd.h"
 
@@ -388,10 +389,7 @@ BOOST_AUTO_TEST_CASE(rays_entering_the_top_levels_box_at_its_edges_hit) {
   };
   std::stable_sort(grouped.begin(), grouped.end(),
                    [&](const Ray& a, const Ray& b) { return octant(a) < octant(b); });
-  struct IsaGuard {
-    SimdIsa saved = activeSimdIsa();
-    ~IsaGuard() { setSimdIsa(saved); }
-  } guard;
+  IsaGuard guard;
   for (SimdIsa isa : supportedSimdIsas()) {
     BOOST_REQUIRE(setSimdIsa(isa));
     BOOST_TEST(packetMismatches(scene, grouped) == 0u, simdIsaName(isa));
@@ -804,10 +802,7 @@ BOOST_AUTO_TEST_CASE(wide_top_level_walk_gives_the_four_wide_walks_hits) {
   // it walk its eight-wide twins (Bvh8Walk.h); with the portable kernels, the BVH4. Every
   // answer must be the same bits, and the wide walk must actually run (fewer node visits),
   // for closest hits and, the top level being deep enough, for any hits.
-  struct IsaGuard {
-    SimdIsa saved = activeSimdIsa();
-    ~IsaGuard() { setSimdIsa(saved); }
-  } guard;
+  IsaGuard guard;
   std::mt19937 rng(404);
   const TriangleMesh flat = makeRandomTriangles(rng, 600, -12.0f, 12.0f, 1.5f);
   std::vector<TriangleMesh> parts;

@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 
+#include "IsaGuard.h"
 #include "PacketObjectRays.h"
 #include "PacketTransformedRays.h"
 #include "TestGeometry.h"
@@ -39,12 +40,6 @@ std::vector<Config> configs() {
           {"sah-kd/bvh", mixed},
           {"kd", sceneOptionsFor(Engine::KdTree)}};
 }
-
-/// Restores the kernel chosen at start-up when a test case ends.
-struct IsaGuard {
-  SimdIsa saved = activeSimdIsa();
-  ~IsaGuard() { setSimdIsa(saved); }
-};
 
 /// Counts of one packets-against-single-rays comparison.
 struct Comparison {

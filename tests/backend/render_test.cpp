@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "IsaGuard.h"
 #include "tracegraph/backend/Error.h"
 #include "tracegraph/backend/Scene.h"
 #include "tracegraph/backend/Simd.h"
@@ -33,6 +34,7 @@
 #include "tracegraph/backend/render/Texture.h"
 
 using namespace tg;
+using tg::test::IsaGuard;
 
 namespace {
 
@@ -840,8 +842,8 @@ BOOST_AUTO_TEST_CASE(point_light_terms_match_the_scalar_shading_bit_for_bit) {
   // The reference computes with denormals, as the test runs.
   RenderSettings settings = settingsFor(RenderMode::OpenGL);
   settings.flushDenormals = false;
-  const SimdIsa saved = activeSimdIsa();
   auto compare = [&] {
+    const IsaGuard guard;
     for (SimdIsa isa : supportedSimdIsas()) {
       BOOST_REQUIRE(setSimdIsa(isa));
       const Frame f = render(ts, cam, settings);
@@ -852,7 +854,6 @@ BOOST_AUTO_TEST_CASE(point_light_terms_match_the_scalar_shading_bit_for_bit) {
           highlighted += want.x > want.y + 0.3f;  // the box is green; a white highlight evens it
         }
     }
-    setSimdIsa(saved);
   };
   compare();
   BOOST_TEST(differing == 0u);
@@ -947,12 +948,13 @@ BOOST_AUTO_TEST_CASE(threads_tiles_and_packets_give_bit_identical_images) {
       stats.push_back(st);
     });
     // Nor packets (odd tiles leave partial 4 x 2 blocks) with any SIMD kernel, or none.
-    const SimdIsa saved = activeSimdIsa();
-    for (SimdIsa isa : supportedSimdIsas()) {
-      setSimdIsa(isa);
-      frames.push_back(render(ts, cam, s));
+    {
+      const IsaGuard guard;
+      for (SimdIsa isa : supportedSimdIsas()) {
+        BOOST_REQUIRE(setSimdIsa(isa));
+        frames.push_back(render(ts, cam, s));
+      }
     }
-    setSimdIsa(saved);
     s.packets = false;
     RenderStats single;
     frames.push_back(render(ts, cam, s, &single));
