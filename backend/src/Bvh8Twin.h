@@ -28,4 +28,10 @@ using Bvh8NodeArray = std::vector<Bvh8Node, DefaultInitAllocator<Bvh8Node>>;
 /// replaced by their own children, widest box first, while the eight slots hold them.
 void buildBvh8Twins(const Bvh4NodeArray& nodes, Bvh8NodeArray& twins);
 
+/// Writes into `wide` an eight-wide BVH collapsed from `nodes`, root first: the root's twin
+/// and, depth first, the twins of the nodes its inner slots reach, whose inner slots then hold
+/// indices into `wide` (a node a twin opens gets no twin of its own), so that each node is
+/// followed by its first inner child.
+void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide);
+
 }  // namespace tg::detail

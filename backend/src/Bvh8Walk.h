@@ -20,54 +20,29 @@
 namespace tg::detail {
 
 #if TG_BVH8_WALK
-/// traverseBvh4From's walk from the root node of `nodes`, whose four children are tested with
-/// the 4-box test, then over their twins (`twins`, built from `nodes`), eight boxes per test
-/// with the 4-box test's arithmetic box by box. A twin tests a subset of the boxes above each
-/// leaf that the BVH4 walk tests, so it reaches every leaf that walk reaches: the closest-hit
-/// walk (AnyHit false, nearest entry first) gives the same closest hit whatever the order,
-/// since the leaves apply the tie rule, and the any-hit walk (AnyHit true, farthest middle
-/// first as AnyHitOrder::FarthestFirst) the same answer.
-///
-/// Compiled for AVX2 (the function attribute; the rest of the library stays at the baseline):
-/// call it only when the CPU runs AVX2. The root's own test stays four-wide: its twin would
-/// test the grandchildren for every ray that enters the scene's box. From the BART robots'
-/// camera the closest-hit walk took 1.13-1.14 of Embree MEDIUM's time so, 1.17 through the
-/// root's twin.
-template <bool AnyHit, class LeafFn>
-[[gnu::target("avx2")]] bool traverseBvh8(const Bvh4NodeArray& nodes, const Bvh8NodeArray& twins,
-                                          const Bvh4Ray& ray, const float& tfar,
-                                          std::uint64_t& nodeVisits, LeafFn&& leaf) {
-  if (nodes.empty()) return false;
-  LocalVisitCount count(nodeVisits);
-  const Bvh8Node* const twinData = twins.data();
-  // `key` orders the children: the entry distance (closest hit), or minus the middle of the
-  // ray's stretch in the box (any hit). Smaller keys are visited first.
-  struct Entry {
-    std::uint32_t child, count;
-    float key;
-  };
-  // At most seven entries pushed per level (a twin spans one or two BVH4 levels).
-  Entry stack[7 * kBvh4MaxDepth + 8];
-  int stackSize = 0;
-  Entry current;
-  {
-    ++count.visits;
-    const Bvh4Node& root = nodes[0];
-    float entry[4], exitDist[4];
-    const unsigned mask = intersectBvh4NodeWith<AnyHit>(root, ray, tfar, entry, exitDist);
-    if (mask == 0) return false;
-    Entry hits[4];
-    int n = 0;
-    for (int s = 0; s < 4; ++s) {
-      if (!(mask & (1u << s))) continue;
-      const Entry e{root.child[s], root.count[s], AnyHit ? -(entry[s] + exitDist[s]) : entry[s]};
-      int k = n++;
-      for (; k > 0 && hits[k - 1].key > e.key; --k) hits[k] = hits[k - 1];
-      hits[k] = e;
-    }
-    for (int k = n - 1; k > 0; --k) stack[stackSize++] = hits[k];
-    current = hits[0];
-  }
+/// A subtree waiting on an eight-wide walk's stack: node `child` of the eight-wide array when
+/// `count` is 0, else the leaf of `count` primitives at `child`; `key` orders the children of a
+/// node (the entry distance for closest hits, minus the middle of the ray's stretch in the box
+/// for any hits farthest first). Smaller keys are visited first.
+struct Bvh8WalkEntry {
+  std::uint32_t child, count;
+  float key;
+};
+
+/// Entries an eight-wide walk's stack holds at most: seven per level (a twin spans one or two
+/// BVH4 levels).
+inline constexpr int kBvh8StackSize = 7 * kBvh4MaxDepth + 8;
+
+/// The loop the eight-wide walks share, from `current` with `stackSize` entries on `stack`:
+/// eight boxes per test with the 4-box test's arithmetic box by box (see intersectBvh4NodeWith
+/// for the NaN and widening rules). Closest hits (AnyHit false) visit the children hit nearest
+/// entry first; any hits farthest middle first (Order FarthestFirst) or in slot order (Slots).
+template <bool AnyHit, AnyHitOrder Order, class LeafFn>
+[[gnu::always_inline, gnu::target("avx2")]] inline bool walkBvh8(
+    const Bvh8Node* nodeData, Bvh8WalkEntry* stack, int stackSize, Bvh8WalkEntry current,
+    const Bvh4Ray& ray, const float& tfar, LocalVisitCount& count, LeafFn& leaf) {
+  using Entry = Bvh8WalkEntry;
+  constexpr bool kSlotOrder = AnyHit && Order == AnyHitOrder::Slots;
   const __m256 origin[3] = {_mm256_set_m128(ray.origin[0], ray.origin[0]),
                             _mm256_set_m128(ray.origin[1], ray.origin[1]),
                             _mm256_set_m128(ray.origin[2], ray.origin[2])};
@@ -80,9 +55,7 @@ template <bool AnyHit, class LeafFn>
   for (;;) {
     if (current.count == 0) {
       ++count.visits;
-      const Bvh8Node& node = twinData[current.child];
-      // intersectBvh4NodeWith's operations, eight slots at a time (see there for the NaN and
-      // widening rules).
+      const Bvh8Node& node = nodeData[current.child];
       __m256 tmin = tnear, tmax = _mm256_set1_ps(tfar);
       // Rows of 32 bytes: twice Bvh4Ray's offsets, a scale the loads' addressing applies. (No
       // lambda here: it would not inherit this function's AVX2 target.)
@@ -103,12 +76,22 @@ template <bool AnyHit, class LeafFn>
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ)));
       if (mask != 0) {
         alignas(32) float key[8];
-        if constexpr (AnyHit)
+        if constexpr (AnyHit && !kSlotOrder)
           _mm256_store_ps(key, _mm256_xor_ps(_mm256_add_ps(tmin, tmax), _mm256_set1_ps(-0.0f)));
         else
           _mm256_store_ps(key, tmin);
-        // One or two children hit (most nodes): no sort. Smaller key first, slot order on ties.
         const auto slot = [&](unsigned s) { return Entry{node.child[s], node.count[s], key[s]}; };
+        if constexpr (kSlotOrder) {
+          // The lowest slot now, the others on the stack highest first.
+          current = slot(static_cast<unsigned>(__builtin_ctz(mask)));
+          for (mask &= mask - 1; mask != 0;) {
+            const unsigned s = 31u - static_cast<unsigned>(__builtin_clz(mask));
+            stack[stackSize++] = slot(s);
+            mask &= ~(1u << s);
+          }
+          continue;
+        }
+        // One or two children hit (most nodes): no sort. Smaller key first, slot order on ties.
         const Entry e0 = slot(static_cast<unsigned>(__builtin_ctz(mask)));
         mask &= mask - 1;
         if (mask == 0) {
@@ -158,6 +141,60 @@ template <bool AnyHit, class LeafFn>
       }
     }
   }
+}
+
+/// traverseBvh4From's walk from the root node of `nodes`, whose four children are tested with
+/// the 4-box test, then over their twins (`twins`, built from `nodes`). A twin tests a subset
+/// of the boxes above each leaf that the BVH4 walk tests, so it reaches every leaf that walk
+/// reaches: the closest-hit walk (AnyHit false, nearest entry first) gives the same closest hit
+/// whatever the order, since the leaves apply the tie rule, and the any-hit walk (AnyHit true,
+/// farthest middle first as AnyHitOrder::FarthestFirst) the same answer.
+///
+/// Compiled for AVX2 (the function attribute; the rest of the library stays at the baseline):
+/// call it only when the CPU runs AVX2. The root's own test stays four-wide: its twin would
+/// test the grandchildren for every ray that enters the scene's box. From the BART robots'
+/// camera the closest-hit walk took 1.13-1.14 of Embree MEDIUM's time so, 1.17 through the
+/// root's twin.
+template <bool AnyHit, class LeafFn>
+[[gnu::target("avx2")]] bool traverseBvh8(const Bvh4NodeArray& nodes, const Bvh8NodeArray& twins,
+                                          const Bvh4Ray& ray, const float& tfar,
+                                          std::uint64_t& nodeVisits, LeafFn&& leaf) {
+  if (nodes.empty()) return false;
+  LocalVisitCount count(nodeVisits);
+  using Entry = Bvh8WalkEntry;
+  Entry stack[kBvh8StackSize];
+  int stackSize = 0;
+  ++count.visits;
+  const Bvh4Node& root = nodes[0];
+  float entry[4], exitDist[4];
+  const unsigned mask = intersectBvh4NodeWith<AnyHit>(root, ray, tfar, entry, exitDist);
+  if (mask == 0) return false;
+  Entry hits[4];
+  int n = 0;
+  for (int s = 0; s < 4; ++s) {
+    if (!(mask & (1u << s))) continue;
+    const Entry e{root.child[s], root.count[s], AnyHit ? -(entry[s] + exitDist[s]) : entry[s]};
+    int k = n++;
+    for (; k > 0 && hits[k - 1].key > e.key; --k) hits[k] = hits[k - 1];
+    hits[k] = e;
+  }
+  for (int k = n - 1; k > 0; --k) stack[stackSize++] = hits[k];
+  return walkBvh8<AnyHit, AnyHitOrder::FarthestFirst>(twins.data(), stack, stackSize, hits[0], ray,
+                                                      tfar, count, leaf);
+}
+
+/// traverseBvh4From's walk over a whole eight-wide BVH (buildBvh8) from its root: closest hits
+/// nearest entry first, any hits in slot order (see AnyHitOrder::Slots). Compiled for AVX2 (call
+/// it only when the CPU runs AVX2).
+template <bool AnyHit, class LeafFn>
+[[gnu::target("avx2")]] bool traverseWideBvh8(const Bvh8NodeArray& wide, const Bvh4Ray& ray,
+                                              const float& tfar, std::uint64_t& nodeVisits,
+                                              LeafFn&& leaf) {
+  if (wide.empty()) return false;
+  LocalVisitCount count(nodeVisits);
+  Bvh8WalkEntry stack[kBvh8StackSize];
+  return walkBvh8<AnyHit, AnyHitOrder::Slots>(wide.data(), stack, 0, Bvh8WalkEntry{0, 0, ray.tnear},
+                                              ray, tfar, count, leaf);
 }
 #endif
 

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "Bvh8Twin.h"
 #include "BvhBuilder.h"
 #include "BvhMortonBuilder.h"
 #include "PacketKernel.h"
@@ -52,7 +53,10 @@ struct BvhSubtree {
 /// for the same watertight test the kd-trees use, so hits are identical whichever accelerator
 /// found them. SAH trees keep each leaf's vertices component by component (leaf rows,
 /// LeafRows.h): a single ray tests a leaf's up to four triangles in one SSE step, with the
-/// scalar test's bits; Morton trees, rewritten by every refit, keep them packed.
+/// scalar test's bits; Morton trees, rewritten by every refit, keep them packed. SAH trees built
+/// on a CPU with AVX2 also keep an eight-wide copy of their nodes (buildBvh8), which single rays
+/// walking the whole tree take (intersectWhole, occludedWhole); packets and walks entered at a
+/// subtree take the BVH4.
 ///
 /// AccelKind::Bvh: 32-bin SAH over all axes, degenerate triangles left out; no refit.
 /// AccelKind::BvhFast: Morton-code build (BvhMortonBuilder), degenerate triangles kept in the
@@ -123,6 +127,11 @@ class BvhAccel final : public ObjectAccel {
   /// what the ray's own would be: for an identity instance, the world ray's).
   bool intersectSubtree(ObjectRay& ray, const Bvh4Ray& boxRay, Hit& hit, std::uint32_t child,
                         std::uint32_t count, TraversalContext& ctx) const;
+  /// Closest hit of one ray in the whole tree (intersectSubtree at the root, through the
+  /// eight-wide tree where there is one), with the box-test constants of `ray` already made.
+  bool intersectWhole(ObjectRay& ray, const Bvh4Ray& boxRay, Hit& hit, TraversalContext& ctx) const;
+  /// Any hit of one ray in the whole tree (see intersectWhole).
+  bool occludedWhole(const ObjectRay& ray, const Bvh4Ray& boxRay, TraversalContext& ctx) const;
   /// occludedSubtree with the box-test constants of `ray` already made.
   bool occludedSubtree(const ObjectRay& ray, const Bvh4Ray& boxRay, std::uint32_t child,
                        std::uint32_t count, TraversalContext& ctx) const;
@@ -165,6 +174,9 @@ class BvhAccel final : public ObjectAccel {
 
   AccelKind kind_;
   Bvh4NodeArray nodes_;
+  /// An eight-wide BVH collapsed from nodes_, for single rays that walk the whole tree on CPUs
+  /// with AVX2 (SAH trees; see build()). Empty when not made.
+  Bvh8NodeArray wide_;
   /// Morton trees: the vertices in leaf order, packed; every build writes all of them (see
   /// NoInit). A refit rewrites them in place.
   std::vector<TriangleVertices, UninitializedAllocator<TriangleVertices>> triangles_;

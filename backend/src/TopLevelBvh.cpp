@@ -274,8 +274,7 @@ bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) con
       return false;
     }
     ObjectRay objectRay = objectRayFor(inst, ray, tfar);
-    return static_cast<const BvhAccel&>(*inst.accel)
-        .intersectSubtree(objectRay, box, hit, 0, 0, ctx);
+    return static_cast<const BvhAccel&>(*inst.accel).intersectWhole(objectRay, box, hit, ctx);
   }
   float tfar = std::min(ray.tfar, hit.t);
   const Bvh4Ray box(ray.origin, ray.direction, ray.tnear);

@@ -785,16 +785,27 @@ BOOST_AUTO_TEST_CASE(static_trees_hold_the_memory_they_use) {
   // A static tree is built once and kept for many frames: it must not keep the builder's worst
   // case (one node per triangle) but about what it uses. A four-wide node takes 128 bytes, a
   // triangle reference 36 (its vertices, as leaf rows) plus 4 (its mesh index) plus 1 (its
-  // place in its leaf); the rows end in a few floats of padding.
+  // place in its leaf); the rows end in a few floats of padding. With AVX2 or AVX-512 the tree
+  // also keeps an eight-wide copy of its nodes, 256 bytes each and fewer than the four-wide ones.
+  IsaGuard guard;
   std::mt19937 rng(31);
   const TriangleMesh mesh = makeRandomTriangles(rng, 20000, -10.0f, 10.0f, 0.8f);
-  const std::unique_ptr<ObjectAccel> accel = built(AccelKind::Bvh, mesh);
-  const BuildStats& s = accel->stats();
-  const std::size_t innerNodes = s.nodes - s.leaves;
-  BOOST_TEST(innerNodes < s.triangles / 2);
-  const std::size_t used = innerNodes * 128 + s.primReferences * (36 + 4 + 1);
-  BOOST_TEST(s.bytes >= used);
-  BOOST_TEST(s.bytes <= used + innerNodes * 128 / 4);
+  for (SimdIsa isa : supportedSimdIsas()) {
+    BOOST_REQUIRE(setSimdIsa(isa));
+    const std::unique_ptr<ObjectAccel> accel = built(AccelKind::Bvh, mesh);
+    const BuildStats& s = accel->stats();
+    const std::size_t innerNodes = s.nodes - s.leaves;
+    BOOST_TEST(innerNodes < s.triangles / 2);
+    if (isa == SimdIsa::Portable) {
+      BOOST_TEST(s.wideNodes == 0u);
+    } else {
+      BOOST_TEST(s.wideNodes > innerNodes / 4);
+      BOOST_TEST(s.wideNodes < innerNodes * 3 / 4);
+    }
+    const std::size_t used = innerNodes * 128 + s.wideNodes * 256 + s.primReferences * (36 + 4 + 1);
+    BOOST_TEST(s.bytes >= used);
+    BOOST_TEST(s.bytes <= used + innerNodes * 128 / 4);
+  }
 }
 
 BOOST_AUTO_TEST_CASE(wide_top_level_walk_gives_the_four_wide_walks_hits) {
@@ -889,5 +900,66 @@ BOOST_AUTO_TEST_CASE(wide_top_level_walk_gives_the_four_wide_walks_hits) {
     BOOST_TEST(anyHitVisits[k] < anyHitVisits[0], "kernel set " << k << ": " << anyHitVisits[k]
                                                                 << " any-hit node visits, "
                                                                 << "portable " << anyHitVisits[0]);
+  }
+}
+
+BOOST_AUTO_TEST_CASE(whole_object_walks_through_the_wide_tree_give_the_four_wide_hits) {
+  // An object BVH built with AVX2 or AVX-512 active is walked whole by single rays through its
+  // eight-wide copy; built with the portable kernels, through the BVH4. Every closest hit and
+  // any-hit answer must be the same bits, and the wide walk must actually run (fewer visits).
+  // Rays start inside and around the meshes; segments cut at random ends are about half
+  // blocked, and a mesh of one triangle has a one-slot wide tree.
+  IsaGuard guard;
+  std::mt19937 rng(808);
+  for (const std::size_t n : {1u, 7u, 300u, 5000u}) {
+    const TriangleMesh mesh = makeRandomTriangles(rng, n, -6.0f, 6.0f, 1.2f);
+    std::vector<Ray> rays;
+    std::vector<ObjectAnswer> portable;
+    std::uint64_t portableVisits = 0;
+    for (SimdIsa isa : supportedSimdIsas()) {
+      BOOST_REQUIRE(setSimdIsa(isa));
+      const std::unique_ptr<ObjectAccel> accel = built(AccelKind::Bvh, mesh);
+      BOOST_TEST((accel->stats().wideNodes > 0u) == (isa != SimdIsa::Portable));
+      if (rays.empty()) {
+        rays = makeRays(rng, accel->bounds(), 3000, mesh.positions);
+        std::uniform_real_distribution<float> cut(0.0f, 2.0f);
+        for (std::size_t i = 0; i < rays.size(); i += 2) rays[i].tfar = cut(rng) * 12.0f;
+      }
+      std::uint64_t visits = 0;
+      std::size_t mismatches = 0, blockedMismatches = 0, hits = 0;
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        TraversalContext ctx;
+        ObjectRay ray(rays[i].origin, rays[i].direction, rays[i].tnear, rays[i].tfar, 0, 0);
+        ObjectAnswer a;
+        a.hit = accel->intersect(ray, a.record, ctx);
+        a.occluded = accel->occluded(
+            ObjectRay(rays[i].origin, rays[i].direction, rays[i].tnear, rays[i].tfar, 0, 0), ctx);
+        visits += ctx.nodeVisits;
+        hits += a.hit ? 1 : 0;
+        // The closest hit decides the any-hit answer.
+        BOOST_TEST(a.occluded == a.hit, "ray " << i << " of " << n << " triangles");
+        if (isa == SimdIsa::Portable) {
+          portable.push_back(a);
+        } else {
+          mismatches +=
+              (a.hit == portable[i].hit && sameHitBits(a.record, portable[i].record)) ? 0 : 1;
+          blockedMismatches += a.occluded == portable[i].occluded ? 0 : 1;
+        }
+      }
+      if (isa == SimdIsa::Portable) {
+        portableVisits = visits;
+        BOOST_TEST(hits > rays.size() / 8, n << " triangles: " << hits << " hits");
+        continue;
+      }
+      BOOST_TEST(mismatches == 0u, simdIsaName(isa) << ", " << n << " triangles: " << mismatches
+                                                    << " closest hits differ");
+      BOOST_TEST(blockedMismatches == 0u, simdIsaName(isa)
+                                              << ", " << n << " triangles: " << blockedMismatches
+                                              << " any-hit answers differ");
+      if (n >= 300)
+        BOOST_TEST(visits < portableVisits, simdIsaName(isa)
+                                                << ": " << visits << " node visits, portable "
+                                                << portableVisits);
+    }
   }
 }

@@ -35,6 +35,9 @@ struct BuildStats {
   /// Leaves without references.
   std::size_t emptyLeaves = 0;
   std::size_t primReferences = 0;  ///< triangle references in leaves (>= triangles with splits)
+  /// Nodes of an eight-wide copy of the tree that single rays walk (SAH BVHs on CPUs with
+  /// AVX2); 0 without one.
+  std::size_t wideNodes = 0;
   /// Depth of the deepest leaf (root: 0).
   std::size_t maxDepth = 0;
   std::size_t bytes = 0;  ///< memory held by the accelerator (nodes, refs, triangle copy)
