@@ -85,14 +85,6 @@ std::uint32_t appendWideNode(const Bvh4NodeArray& nodes, std::uint32_t i, Bvh8No
 
 }  // namespace
 
-void buildBvh8Twins(const Bvh4NodeArray& nodes, Bvh8NodeArray& twins) {
-  twins.resize(nodes.size());
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    Slot slots[8];
-    writeSlots(slots, twinSlots(nodes, i, slots), twins[i]);
-  }
-}
-
 void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide) {
   wide.clear();
   if (nodes.empty()) return;
@@ -100,6 +92,15 @@ void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide) {
   appendWideNode(nodes, 0, wide);
   // A static tree is kept for many frames: hold what it uses (about half the BVH4's count).
   wide.shrink_to_fit();
+}
+
+void buildBvh8BelowRoot(const Bvh4NodeArray& nodes, Bvh4Node& root, Bvh8NodeArray& wide) {
+  wide.clear();
+  if (nodes.empty()) return;
+  root = nodes[0];
+  wide.reserve(nodes.size());
+  for (int s = 0; s < 4; ++s)
+    if (root.isInner(s)) root.child[s] = appendWideNode(nodes, root.child[s], wide);
 }
 
 }  // namespace tg::detail

@@ -1,4 +1,4 @@
-// Eight-wide twins of a BVH4's nodes, for single-ray walks that test eight boxes per 256-bit
+// Eight-wide BVHs collapsed from a BVH4, for single-ray walks that test eight boxes per 256-bit
 // instruction (Bvh8Walk.h). Internal header: not installed.
 #pragma once
 
@@ -11,7 +11,7 @@ namespace tg::detail {
 
 /// A node of eight slots, with Bvh4Node's slot conventions (inner: count 0 and a node index;
 /// leaf: count > 0 and the first primitive; unused: count 0, kInvalidId and an empty box). An
-/// inner slot holds the index of a BVH4 node, whose twin has the same index.
+/// inner slot holds the index of another Bvh8Node of the same array.
 struct alignas(64) Bvh8Node {
   /// bounds[2 * axis] lower, bounds[2 * axis + 1] upper coordinates of the eight slots.
   float bounds[6][8];
@@ -21,17 +21,20 @@ struct alignas(64) Bvh8Node {
   std::uint32_t count[8];
 };
 
-/// The twins of a BVH4's nodes, indexed as the nodes.
+/// The nodes of an eight-wide BVH.
 using Bvh8NodeArray = std::vector<Bvh8Node, DefaultInitAllocator<Bvh8Node>>;
 
-/// Writes into `twins` one twin per node of `nodes`: the node's slots, with its inner slots
-/// replaced by their own children, widest box first, while the eight slots hold them.
-void buildBvh8Twins(const Bvh4NodeArray& nodes, Bvh8NodeArray& twins);
-
-/// Writes into `wide` an eight-wide BVH collapsed from `nodes`, root first: the root's twin
-/// and, depth first, the twins of the nodes its inner slots reach, whose inner slots then hold
-/// indices into `wide` (a node a twin opens gets no twin of its own), so that each node is
-/// followed by its first inner child.
+/// Writes into `wide` an eight-wide BVH collapsed from `nodes`, root first. Each BVH4 node the
+/// collapse reaches gets a twin: its own slots, with the widest inner slot whose children fit
+/// opened into them, until none does (a ray that enters a wide box is the likeliest to enter
+/// its children too); a node opened into its parent's twin gets none. Twins follow each other
+/// depth first, each followed by its first inner child, and hold the indices of their inner
+/// children's twins in `wide`: about half the BVH4's count of nodes.
 void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide);
+
+/// buildBvh8 below the root: writes into `wide` the eight-wide trees of the root's inner
+/// children and into `root` a copy of the root node whose inner slots hold their indices in
+/// `wide` (for walks that test the root four-wide, see traverseBvh8).
+void buildBvh8BelowRoot(const Bvh4NodeArray& nodes, Bvh4Node& root, Bvh8NodeArray& wide);
 
 }  // namespace tg::detail

@@ -156,16 +156,14 @@ template <bool AnyHit, AnyHitOrder Order, class LeafFn>
 /// camera the closest-hit walk took 1.13-1.14 of Embree MEDIUM's time so, 1.17 through the
 /// root's twin.
 template <bool AnyHit, class LeafFn>
-[[gnu::target("avx2")]] bool traverseBvh8(const Bvh4NodeArray& nodes, const Bvh8NodeArray& twins,
+[[gnu::target("avx2")]] bool traverseBvh8(const Bvh4Node& root, const Bvh8NodeArray& twins,
                                           const Bvh4Ray& ray, const float& tfar,
                                           std::uint64_t& nodeVisits, LeafFn&& leaf) {
-  if (nodes.empty()) return false;
   LocalVisitCount count(nodeVisits);
   using Entry = Bvh8WalkEntry;
   Entry stack[kBvh8StackSize];
   int stackSize = 0;
   ++count.visits;
-  const Bvh4Node& root = nodes[0];
   float entry[4], exitDist[4];
   const unsigned mask = intersectBvh4NodeWith<AnyHit>(root, ray, tfar, entry, exitDist);
   if (mask == 0) return false;

@@ -165,7 +165,9 @@ void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
   }
   outerBounds_ = bvh_.nodes.empty() ? Bvh4Node::makeEmpty() : oneBoxNode(bvh_.bounds);
   // Closest-hit single rays from inside the top level's box walk eight-wide twins where the
-  // CPU runs AVX2 (Bvh8Walk.h). One thread, alternating processes, time as a share of Embree
+  // CPU runs AVX2 (Bvh8Walk.h), made only for the nodes a walk from the root reaches (the robots'
+  // 661 instances: top-level rebuilds of 0.132-0.135 ms against 0.142-0.145 with a twin for
+  // every node, and the same walk). One thread, alternating processes, time as a share of Embree
   // MEDIUM's rtcIntersect1: robots from its camera (the top level 13.2 of a ray's 17.7 node
   // visits) 1.27-1.28 -> 1.13-1.16, kitchen 1.14 -> 1.13 (within the spread). Rays from
   // outside keep the BVH4: through the twins the kitchen's took 6-9% and the robots' 3-7% more
@@ -174,7 +176,7 @@ void TopLevelBvh::build(std::span<const InstanceRecord> instances) {
 #if TG_BVH8_WALK
   if (refs_.size() <= kTwinMaxEntries && bvh_.maxDepth >= kTwinMinDepth &&
       activeSimdIsa() != SimdIsa::Portable)
-    buildBvh8Twins(bvh_.nodes, twins_);
+    buildBvh8BelowRoot(bvh_.nodes, wideRoot_, twins_);
 #endif
   stats_.leaves = bvh_.leaves;
   stats_.nodes = bvh_.nodes.size() + bvh_.leaves;
@@ -304,7 +306,7 @@ bool TopLevelBvh::intersect(const Ray& ray, Hit& hit, TraversalContext& ctx) con
 #if TG_BVH8_WALK
   // Rays from outside the top level's box (bvh_.bounds) keep the BVH4 walk (see build()).
   if (!twins_.empty() && inside)
-    return traverseBvh8<false>(bvh_.nodes, twins_, box, tfar, ctx.nodeVisits, leaf);
+    return traverseBvh8<false>(wideRoot_, twins_, box, tfar, ctx.nodeVisits, leaf);
 #endif
   return traverseBvh4From<false>(bvh_.nodes, 0, 0, box, tfar, ctx.nodeVisits, leaf);
 }
@@ -354,7 +356,7 @@ bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
   };
 #if TG_BVH8_WALK
   if (!twins_.empty() && bvh_.maxDepth >= kAnyHitTwinMinDepth && bvh_.bounds.contains(ray.origin))
-    return traverseBvh8<true>(bvh_.nodes, twins_, box, ray.tfar, ctx.nodeVisits, leaf);
+    return traverseBvh8<true>(wideRoot_, twins_, box, ray.tfar, ctx.nodeVisits, leaf);
 #endif
   return traverseBvh4From<true, AnyHitOrder::FarthestFirst>(bvh_.nodes, 0, 0, box, ray.tfar,
                                                             ctx.nodeVisits, leaf);

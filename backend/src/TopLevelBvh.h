@@ -55,10 +55,12 @@ class TopLevelBvh final : public TopLevelAccel {
   /// build (or scene) is never taken for one of this.
   std::uint64_t buildId_ = 0;
   BvhBuildResult bvh_;
-  /// Eight-wide twins of bvh_.nodes for single rays (any-hit ones in deep top levels only, see
-  /// TopLevelBvh.cpp); empty when they are not used (no AVX2, the portable kernels chosen, or a
-  /// large or shallow top level).
+  /// Eight-wide twins of the nodes below bvh_'s root (buildBvh8BelowRoot) for single rays
+  /// (any-hit ones in deep top levels only, see TopLevelBvh.cpp); empty when they are not used
+  /// (no AVX2, the portable kernels chosen, or a large or shallow top level).
   Bvh8NodeArray twins_;
+  /// bvh_'s root with its inner slots pointing into twins_.
+  Bvh4Node wideRoot_ = Bvh4Node::makeEmpty();
   /// What a leaf entry enters: a whole instance, or one subtree of the BVH of an identity
   /// instance (static geometry), whose box then stands in the top level for its own.
   struct Ref {
