@@ -1,6 +1,6 @@
-// The single-ray walks (closest and any hit) over a BVH4 and its eight-wide twins (Bvh8Twin.h),
-// eight boxes per AVX instruction. Internal header: not installed; include it only where the walk
-// is instantiated (it brings in the AVX intrinsics).
+// The single-ray walks (closest and any hit) over eight-wide BVHs collapsed from a BVH4
+// (Bvh8Twin.h), eight boxes per AVX instruction. Internal header: not installed; include it only
+// where the walk is instantiated (it brings in the AVX intrinsics).
 #pragma once
 
 #include "Bvh4.h"
@@ -143,8 +143,9 @@ template <bool AnyHit, AnyHitOrder Order, class LeafFn>
   }
 }
 
-/// traverseBvh4From's walk from the root node of `nodes`, whose four children are tested with
-/// the 4-box test, then over their twins (`twins`, built from `nodes`). A twin tests a subset
+/// traverseBvh4From's walk from a BVH4's root, whose four children are tested with the 4-box
+/// test, then over their twins: `root` and `twins` as buildBvh8BelowRoot writes them (the root's
+/// inner slots index `twins`). A twin tests a subset
 /// of the boxes above each leaf that the BVH4 walk tests, so it reaches every leaf that walk
 /// reaches: the closest-hit walk (AnyHit false, nearest entry first) gives the same closest hit
 /// whatever the order, since the leaves apply the tie rule, and the any-hit walk (AnyHit true,
