@@ -58,6 +58,10 @@ detail::PacketKernels kernelsOf(SimdIsa isa) {
 /// 21.0-21.2 with the AVX2 ones, robots 23.7-23.8 against 21.9-22.0; from outside the scenes
 /// 8-13% less time; kitchen frames at two threads, `opengl` 41.3-41.9 -> 43.8-44.0 fps and
 /// `whitted` 5.04-5.12 -> 5.35-5.39. Shadow packets the same either way.
+/// Family 1Ah (Zen 5) runs 512-bit operations at full width and keeps the AVX-512 kernels: on an
+/// AMD EPYC of that family the two sets came within noise of each other from the BART cameras
+/// and in `opengl` frames, and from outside the scenes each won on some (kitchen and robots
+/// 7-9% faster with AVX2, the museum 5-9% with AVX-512).
 bool splitsWideVectors() {
 #if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
   unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
