@@ -8,6 +8,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
@@ -137,22 +138,20 @@ void BvhAccel::build(const TriangleMesh& mesh) {
   const auto start = std::chrono::steady_clock::now();
   stats_ = {};
   stats_.triangles = mesh.triangleCount();
-  if (kind_ == AccelKind::BvhFast) {
-    buildMorton(mesh);
-  } else {
-    buildSah(mesh);
-  }
   // Single rays that walk a whole SAH tree (rigid parts, sole identity instances, objects not
   // opened into the top level) walk an eight-wide copy of it where the CPU runs AVX2: half the
   // node visits at eight boxes per test. One thread, 640x480, alternating processes, against
   // the BVH4: the flattened BART kitchen from its camera 54.3 -> 48.6 ms, the flattened robots
   // 55.0 -> 52.1, the instanced robots (661 rigid parts) 60.9-61.0 -> 59.3-59.6; walks entered
   // at a subtree (the static chunks' braided into the top level) keep the BVH4, where the wide
-  // walk's set-up cost what its fewer visits saved. Refitted (Morton) trees have none.
+  // walk's set-up cost what its fewer visits saved. Refitted (Morton) trees have none: buildSah
+  // makes the copy beside the leaf rows.
   wide_.clear();
-#if TG_BVH8_WALK
-  if (kind_ == AccelKind::Bvh && activeSimdIsa() != SimdIsa::Portable) buildBvh8(nodes_, wide_);
-#endif
+  if (kind_ == AccelKind::BvhFast) {
+    buildMorton(mesh);
+  } else {
+    buildSah(mesh);
+  }
   stats_.buildSahCost = stats_.sahCost;
   finishStats();
   stats_.buildMs = millisecondsSince(start);
@@ -218,10 +217,26 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
     nodes_.swap(trimmed);
   }
 
+  // The leaf rows and the eight-wide copy only read the tree, so they are made side by side:
+  // the collapse into the eight-wide copy is serial, and made after the rows it kept one thread
+  // busy while the other waited (the flattened BART kitchen on two threads: 2.1 ms of a 17 ms
+  // build, after 1.5 ms of rows; 1.066 instead of 1.097 of Embree MEDIUM's time, medians of
+  // six alternating processes). The trim stays before them: with the large node array still
+  // held, the rows and the copy went to fresh pages, whose first touch cost about 12 us each on
+  // the same virtual machine (on one thread, in some processes: 79 ms per build instead of 31,
+  // with 4,000 more page faults each).
   const std::size_t refs = prims_.size();
   primIds_.resize(refs);
-  forEachIndex(refs, 4096, [&](std::size_t k) { primIds_[k] = prims_[k].id; });
-  writeLeafRowsOfTree(mesh);
+  tbb::parallel_invoke(
+      [&] {
+#if TG_BVH8_WALK
+        if (activeSimdIsa() != SimdIsa::Portable) buildBvh8(nodes_, wide_);
+#endif
+      },
+      [&] {
+        forEachIndex(refs, 4096, [&](std::size_t k) { primIds_[k] = prims_[k].id; });
+        writeLeafRowsOfTree(mesh);
+      });
   // A static tree is never refitted: keep neither the topology nor the build scratch.
   std::vector<std::uint32_t>().swap(indices_);
   BvhPrimArray().swap(prims_);
