@@ -227,11 +227,11 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   // with 4,000 more page faults each).
   const std::size_t refs = prims_.size();
   primIds_.resize(refs);
+  // Decided here, on the calling thread, not on whichever thread runs the copy.
+  const bool makeWide = TG_BVH8_WALK && activeSimdIsa() != SimdIsa::Portable;
   tbb::parallel_invoke(
       [&] {
-#if TG_BVH8_WALK
-        if (activeSimdIsa() != SimdIsa::Portable) buildBvh8(nodes_, wide_);
-#endif
+        if (makeWide) buildBvh8(nodes_, wide_);
       },
       [&] {
         forEachIndex(refs, 4096, [&](std::size_t k) { primIds_[k] = prims_[k].id; });
