@@ -223,8 +223,8 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   // build, after 1.5 ms of rows; 1.066 instead of 1.097 of Embree MEDIUM's time, medians of
   // six alternating processes). The trim stays before them: with the large node array still
   // held, the rows and the copy went to fresh pages, whose first touch cost about 12 us each on
-  // the same virtual machine (on one thread, in some processes: 79 ms per build instead of 31,
-  // with 4,000 more page faults each).
+  // the same virtual machine (on one thread, in most processes: 77-115 ms per build instead of
+  // 30, with about 4,000 more page faults each).
   const std::size_t refs = prims_.size();
   primIds_.resize(refs);
   // Decided here, on the calling thread, not on whichever thread runs the copy.
