@@ -752,6 +752,57 @@ unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays&
   return c.changed;
 }
 
+namespace {
+
+/// The halves' closest-hit contexts of a pair walk, passed through the kernel as `user`.
+struct ClosestPairContext {
+  ClosestLeafContext half[2];
+};
+
+void intersectPairLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
+                       PacketBoxRays* const (&rays)[2]) {
+  auto& c = *static_cast<ClosestPairContext*>(user);
+  for (unsigned h = 0; h < 2; ++h) {
+    const unsigned half = (lanes >> (kPacketLanes * h)) & kAllLanes;
+    if (half != 0) intersectPacketLeaf(&c.half[h], first, count, half, *rays[h]);
+  }
+}
+
+void intersectPairSingleLane(void* user, std::uint32_t child, unsigned lane,
+                             PacketBoxRays* const (&rays)[2]) {
+  auto& c = *static_cast<ClosestPairContext*>(user);
+  const unsigned h = lane / kPacketLanes;
+  intersectSingleLane(&c.half[h], child, lane % kPacketLanes, *rays[h]);
+}
+
+}  // namespace
+
+void BvhAccel::intersectLoadedPair(const LoadedHalf (&halves)[2], TraversalContext& ctx,
+                                   const BvhSubtree& root, unsigned (&changed)[2]) const {
+  const PacketKernels* kernels = halves[0].rays->kernels;
+  const bool paired =
+      !nodes_.empty() && kernels->traversePair != nullptr &&
+      laneCount(halves[0].lanes) + laneCount(halves[1].lanes) >= static_cast<int>(kPacketLanes) &&
+      halves[0].lanes != 0 && halves[1].lanes != 0 &&
+      halves[0].rays->box.signs == halves[1].rays->box.signs;
+  if (!paired) {
+    for (unsigned h = 0; h < 2; ++h)
+      changed[h] = intersectLoadedPacket(*halves[h].packet, *halves[h].rays, halves[h].lanes,
+                                         halves[h].hits, ctx, root);
+    return;
+  }
+  ClosestPairContext c{
+      {ClosestLeafContext{{this, &ctx, halves[0].rays, kernels, halves[0].packet}, halves[0].hits},
+       ClosestLeafContext{{this, &ctx, halves[1].rays, kernels, halves[1].packet},
+                          halves[1].hits}}};
+  PacketBoxRays* const box[2] = {&halves[0].rays->box, &halves[1].rays->box};
+  kernels->traversePair(nodes_.data(), root.child, root.count, box,
+                        halves[0].lanes | (halves[1].lanes << kPacketLanes), &intersectPairLeaf,
+                        &intersectPairSingleLane, &c, ctx.nodeVisits);
+  changed[0] = c.half[0].changed;
+  changed[1] = c.half[1].changed;
+}
+
 unsigned BvhAccel::occludedLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays,
                                         unsigned lanes, TraversalContext& ctx,
                                         const BvhSubtree& root) const {

@@ -101,6 +101,18 @@ class BvhAccel final : public ObjectAccel {
   unsigned intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned lanes,
                                  Hit* hits, TraversalContext& ctx,
                                  const BvhSubtree& root = {}) const;
+  /// One half of intersectLoadedPair: a packet, its loaded rows, its lanes and its hits.
+  struct LoadedHalf {
+    ObjectRayPacket* packet = nullptr;
+    BvhPacketRays* rays = nullptr;
+    unsigned lanes = 0;
+    Hit* hits = nullptr;
+  };
+  /// intersectLoadedPacket for two halves at once, walked as one pair (PairTraverseFn) when the
+  /// kernels of half 0 have a pair walk, both halves have lanes and share their direction signs;
+  /// else half by half. Writes into changed[h] the lanes of half h whose hit changed.
+  void intersectLoadedPair(const LoadedHalf (&halves)[2], TraversalContext& ctx,
+                           const BvhSubtree& root, unsigned (&changed)[2]) const;
   /// occludedPacket for lanes already loaded (see intersectLoadedPacket).
   unsigned occludedLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned lanes,
                                 TraversalContext& ctx, const BvhSubtree& root = {}) const;

@@ -63,6 +63,30 @@ using PacketTraverseFn = unsigned (*)(const Bvh4Node* nodes, std::uint32_t rootC
                                       bool anyHit, AnyHitOrder anyHitOrder, PacketLeafFn leaf,
                                       PacketSingleFn single, void* user, std::uint64_t& nodeVisits);
 
+/// Lanes of a pair of packets walked as one (PairTraverseFn): lane 8h + l is lane l of half h.
+inline constexpr unsigned kPairLanes = 2 * kPacketLanes;
+
+/// The closest-hit leaf callback of a pair walk: tests primitives [first, first + count) of a
+/// leaf against the lanes `lanes` (pair lanes, see kPairLanes) of the two halves' rays, and lowers
+/// rays[h]->tfar of the lanes that found a closer hit.
+using PairLeafFn = void (*)(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
+                            PacketBoxRays* const (&rays)[2]);
+
+/// Walks the subtree rooted at inner node `child` with pair lane `lane` alone (PacketSingleFn for
+/// a pair): closest hits lower its half's tfar.
+using PairSingleFn = void (*)(void* user, std::uint32_t child, unsigned lane,
+                              PacketBoxRays* const (&rays)[2]);
+
+/// The closest-hit walk (PacketTraverseFn, anyHit false) of two packets as one of kPairLanes
+/// lanes: each node's boxes are tested against the lanes of both halves at once, so a node
+/// both halves enter is fetched, ordered and pushed once. The halves must share their direction
+/// signs (PacketBoxRays::signs). Every lane visits exactly the leaves its own packet walk would
+/// visit, so it finds what the single-ray walk finds.
+using PairTraverseFn = void (*)(const Bvh4Node* nodes, std::uint32_t rootChild,
+                                std::uint32_t rootCount, PacketBoxRays* const (&rays)[2],
+                                unsigned lanes, PairLeafFn leaf, PairSingleFn single, void* user,
+                                std::uint64_t& nodeVisits);
+
 /// The lanes of a packet as the watertight triangle test sees them, for lanes that share the
 /// axis permutation (kx, ky, kz) of WatertightRay.
 struct alignas(64) PacketTriangleRays {
@@ -182,6 +206,9 @@ struct PacketKernels {
   IdentityRowsFn loadIdentityRows = nullptr;
   /// The test of one box, before the walk (the top level's box for packets from outside it).
   PacketOneBoxFn meetsOneBox = nullptr;
+  /// The closest-hit walk of two packets as one; null where the instruction set has no register
+  /// as wide as a pair (sixteen floats), whose node test would then cost as much as two walks.
+  PairTraverseFn traversePair = nullptr;
 };
 
 /// The portable kernels (SSE on x86-64).

@@ -33,6 +33,15 @@ void TopLevelAccel::intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
   }
 }
 
+void TopLevelAccel::intersectPacketPair(const Ray* rays, unsigned lanes, Hit* hits,
+                                        TraversalContext& ctx) const {
+  constexpr unsigned kPacketMask = (1u << kRayPacketSize) - 1u;
+  for (unsigned h = 0; h < 2; ++h) {
+    const unsigned half = (lanes >> (kRayPacketSize * h)) & kPacketMask;
+    if (half != 0) intersectPacket(rays + kRayPacketSize * h, half, hits + kRayPacketSize * h, ctx);
+  }
+}
+
 unsigned TopLevelAccel::occludedPacket(const Ray* rays, unsigned lanes,
                                        TraversalContext& ctx) const {
   unsigned blocked = 0;

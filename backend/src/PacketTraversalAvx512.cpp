@@ -16,6 +16,7 @@
 #include "PacketLanesAvx.h"
 #include "PacketObjectRowsAvx.h"
 #include "PacketOneBox8.h"
+#include "PacketPairWalkImpl.h"
 #include "PacketTraversalImpl.h"
 
 namespace tg::detail {
@@ -84,11 +85,83 @@ struct Avx512NodeTest : Avx8LaneOps {
   }
 };
 
+/// The rows of both halves of a pair in one register: half 0's lanes low, half 1's high.
+inline __m512 pairRow(const float* low, const float* high) {
+  // insertf64x4 is AVX-512F (insertf32x8 would need DQ); moving bits, the lane type is moot.
+  return _mm512_castpd_ps(
+      _mm512_insertf64x4(_mm512_castps_pd(_mm512_castps256_ps512(_mm256_load_ps(low))),
+                         _mm256_castps_pd(_mm256_load_ps(high)), 1));
+}
+
+/// The pair walk's node test (PacketPairWalkImpl.h): one slot of the node against all sixteen
+/// lanes per instruction, with Avx512NodeTest's arithmetic in the same order, so each lane's
+/// entry and hit are the bits its own packet's walk computes.
+struct Avx512PairNodeTest {
+  explicit Avx512PairNodeTest(PacketBoxRays* const (&rays)[2])
+      : tnear(pairRow(rays[0]->tnear, rays[1]->tnear)) {
+    for (int a = 0; a < 3; ++a) {
+      origin[a] = pairRow(rays[0]->origin[a], rays[1]->origin[a]);
+      reciprocal[a] = pairRow(rays[0]->reciprocal[a], rays[1]->reciprocal[a]);
+    }
+  }
+
+  __m512 tnear;
+  __m512 origin[3], reciprocal[3];
+
+  static __m512 tfar(PacketBoxRays* const (&rays)[2]) {
+    return pairRow(rays[0]->tfar, rays[1]->tfar);
+  }
+
+  /// The lanes l of `mask` whose entry[l] lies beyond their tfar (ordered: false for NaN).
+  static unsigned beyond(const float* entry, PacketBoxRays* const (&rays)[2], unsigned mask) {
+    return _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(mask), _mm512_load_ps(entry), tfar(rays),
+                                   _CMP_GT_OQ);
+  }
+
+  static void copyEntry(const float* from, float* to) { _mm512_store_ps(to, _mm512_load_ps(from)); }
+
+  template <class Rows>
+  void test(const Bvh4Node& node, PacketBoxRays* const (&rays)[2], unsigned lanes, unsigned hit[4],
+            float entry[4][kPairLanes]) const {
+    const __m512i absMask = _mm512_set1_epi32(0x7FFFFFFF);
+    const __m512 slack = _mm512_set1_ps(kBvhIntervalSlack);
+    const __m512 far = tfar(rays);
+    for (int s = 0; s < 4; ++s) {
+      __m512 tmin = tnear, tmax = far;
+      for (int a = 0; a < 3; ++a) {
+        const __m512 n = _mm512_mul_ps(
+            _mm512_sub_ps(_mm512_set1_ps(node.bounds[Rows::nearRow(a)][s]), origin[a]),
+            reciprocal[a]);
+        const __m512 f =
+            _mm512_mul_ps(_mm512_sub_ps(_mm512_set1_ps(node.bounds[Rows::farRow(a)][s]), origin[a]),
+                          reciprocal[a]);
+        tmin = _mm512_max_ps(n, tmin);
+        tmax = _mm512_min_ps(f, tmax);
+      }
+      if constexpr (Rows::nonNegativeTnear) {
+        tmin = _mm512_mul_ps(tmin, _mm512_set1_ps(1.0f - kBvhIntervalSlack));
+        tmax = _mm512_mul_ps(tmax, _mm512_set1_ps(1.0f + kBvhIntervalSlack));
+      } else {
+        const __m512 absMin =
+            _mm512_castsi512_ps(_mm512_and_epi32(_mm512_castps_si512(tmin), absMask));
+        const __m512 absMax =
+            _mm512_castsi512_ps(_mm512_and_epi32(_mm512_castps_si512(tmax), absMask));
+        tmin = _mm512_sub_ps(tmin, _mm512_mul_ps(absMin, slack));
+        tmax = _mm512_add_ps(tmax, _mm512_mul_ps(absMax, slack));
+      }
+      _mm512_store_ps(entry[s], tmin);
+      hit[s] = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(lanes), tmin, tmax, _CMP_LE_OS);
+    }
+  }
+};
+
 }  // namespace
 
 PacketKernels packetKernelsAvx512() {
-  return packetKernelsWith<Avx512NodeTest, Lanes8>(&loadBoxRaysAvx, &loadTransformedRowsAvx,
-                                                   &loadIdentityRowsAvx, &meetsOneBoxAvx);
+  PacketKernels kernels = packetKernelsWith<Avx512NodeTest, Lanes8>(
+      &loadBoxRaysAvx, &loadTransformedRowsAvx, &loadIdentityRowsAvx, &meetsOneBoxAvx);
+  kernels.traversePair = &traversePair<Avx512PairNodeTest>;
+  return kernels;
 }
 
 }  // namespace tg::detail

@@ -208,7 +208,8 @@ PacketKernels packetKernelsWith(BoxRayLoadFn load, TransformedRowsFn loadTransfo
           &testTrianglesWith<Lanes>,
           loadTransformedRows,
           loadIdentityRows,
-          meetsOneBox};
+          meetsOneBox,
+          nullptr};
 }
 
 }  // namespace

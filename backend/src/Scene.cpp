@@ -523,21 +523,29 @@ void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalC
   if (rays.size() != hits.size())
     throw Error("Scene::intersect: " + std::to_string(rays.size()) + " rays but " +
                 std::to_string(hits.size()) + " hits");
-  for (std::size_t base = 0; base < rays.size(); base += kRayPacketSize) {
-    const std::size_t n = std::min<std::size_t>(kRayPacketSize, rays.size() - base);
+  // Where the kernels walk two packets as one, full pairs of packets go together.
+  const bool pairs = detail::activePacketKernels().traversePair != nullptr;
+  for (std::size_t base = 0; base < rays.size();) {
+    const std::size_t left = rays.size() - base;
+    const std::size_t n = pairs && left >= 2 * kRayPacketSize
+                              ? 2 * kRayPacketSize
+                              : std::min<std::size_t>(kRayPacketSize, left);
     const Ray* packet = rays.data() + base;
     Hit* packetHits = hits.data() + base;
     // The stream is read once, front to back: ask for the packet after next while this one is
-    // traced (its four cache lines).
-    if (base + 3 * kRayPacketSize <= rays.size())
-      for (std::size_t line = 0; line < sizeof(Ray) * kRayPacketSize; line += 64)
-        __builtin_prefetch(reinterpret_cast<const char*>(packet + 2 * kRayPacketSize) + line);
+    // traced (its cache lines).
+    if (base + 3 * n <= rays.size())
+      for (std::size_t line = 0; line < sizeof(Ray) * n; line += 64)
+        __builtin_prefetch(reinterpret_cast<const char*>(packet + 2 * n) + line);
     // Default hits in one block copy: assigning Hit{} lane by lane stored field by field.
-    if (n == kRayPacketSize)
-      copyNoHits(packetHits);
-    else
+    if (n >= kRayPacketSize) {
+      for (std::size_t h = 0; h < n; h += kRayPacketSize) copyNoHits(packetHits + h);
+    } else {
       std::memcpy(static_cast<void*>(packetHits), kNoHits, n * sizeof(Hit));
-    if (n < kRayPacketSize) {
+    }
+    if (n == 2 * kRayPacketSize) {
+      impl_->topLevel->intersectPacketPair(packet, (1u << n) - 1u, packetHits, ctx);
+    } else if (n < kRayPacketSize) {
       // The packet walk reads kRayPacketSize rays; a short tail goes through a full-size copy.
       Ray tail[kRayPacketSize];
       Hit tailHits[kRayPacketSize];
@@ -548,16 +556,19 @@ void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalC
       // The top level leaves out the rays that are not traceable, from the rows it loads.
       impl_->topLevel->intersectPacket(packet, detail::kAllLanes, packetHits, ctx);
     }
-    // The packet's normals in one call, which maps them two at a time (mapNormals).
-    const Affine3d* worldToObject[kRayPacketSize];
-    Hit* hit[kRayPacketSize];
-    std::size_t count = 0;
-    for (std::size_t l = 0; l < n; ++l)
-      if (packetHits[l].valid()) {
-        worldToObject[count] = impl_->committedNormalMap(packetHits[l].instanceId);
-        hit[count++] = &packetHits[l];
-      }
-    mapNormals(worldToObject, hit, count);
+    // Each packet's normals in one call, which maps them two at a time (mapNormals).
+    for (std::size_t h = 0; h < n; h += kRayPacketSize) {
+      const Affine3d* worldToObject[kRayPacketSize];
+      Hit* hit[kRayPacketSize];
+      std::size_t count = 0;
+      for (std::size_t l = h; l < std::min(n, h + kRayPacketSize); ++l)
+        if (packetHits[l].valid()) {
+          worldToObject[count] = impl_->committedNormalMap(packetHits[l].instanceId);
+          hit[count++] = &packetHits[l];
+        }
+      mapNormals(worldToObject, hit, count);
+    }
+    base += n;
   }
 }
 

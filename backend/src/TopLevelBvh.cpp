@@ -486,40 +486,55 @@ struct TopLevelPacketWalk {
     return {&packet, &identityBvh};
   }
 
+  /// The closest hits of `lanes` in the instance (or subtree of one) `ref` refers to; lowers
+  /// boxRays.tfar of the lanes that found a closer hit.
+  void intersectRef(const Ref& ref, unsigned lanes, PacketBoxRays& boxRays) {
+    const InstanceRecord& inst = top->instances_[ref.instance];
+    const auto tfar = [&](unsigned l) {
+      return hits[l].t < rays[l].tfar ? hits[l].t : rays[l].tfar;
+    };
+    unsigned changed = 0;
+    if (isBvhAccel(*inst.accel)) {
+      const auto [packet, loaded] = bvhPacket(inst, lanes, boxRays);
+      const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+      changed = bvh.intersectLoadedPacket(*packet, *loaded, lanes & loaded->coherent, hits, *ctx,
+                                          ref.subtree());
+      changed |=
+          intersectIncoherent(bvh, ref.subtree(), lanes & ~loaded->coherent, *packet, *loaded);
+    } else {
+      changed = inst.accel->intersectPacket(objectPacket(inst, lanes, tfar), lanes, hits, *ctx);
+    }
+    lowerTfar(changed, boxRays);
+  }
+
+  /// Lanes the packet test does not take walk the same subtree alone: in a transformed
+  /// instance, those with other object-space direction signs than the first (the identity
+  /// packet loads every lane of the walk). Returns the lanes whose hit changed.
+  unsigned intersectIncoherent(const BvhAccel& bvh, const BvhSubtree& root, unsigned lanes,
+                               ObjectRayPacket& packet, BvhPacketRays& loaded) {
+    unsigned changed = 0;
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      if (bvh.intersectSubtree(BvhAccel::packetLane(packet, loaded, l), hits[l], root.child,
+                               root.count, *ctx))
+        changed |= 1u << l;
+    }
+    return changed;
+  }
+
+  /// Lowers boxRays.tfar of the lanes `changed` to their hits.
+  void lowerTfar(unsigned changed, PacketBoxRays& boxRays) const {
+    for (unsigned m = changed; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      boxRays.tfar[l] = std::min(boxRays.tfar[l], hits[l].t);
+    }
+  }
+
   static unsigned intersectLeaf(void* user, std::uint32_t first, std::uint32_t count,
                                 unsigned lanes, PacketBoxRays& boxRays) {
     auto& w = *static_cast<TopLevelPacketWalk*>(user);
-    for (std::uint32_t k = first; k < first + count; ++k) {
-      const Ref& ref = w.top->refs_[k];
-      const InstanceRecord& inst = w.top->instances_[ref.instance];
-      const auto tfar = [&](unsigned l) {
-        return w.hits[l].t < w.rays[l].tfar ? w.hits[l].t : w.rays[l].tfar;
-      };
-      unsigned changed = 0;
-      if (isBvhAccel(*inst.accel)) {
-        const auto [packet, loaded] = w.bvhPacket(inst, lanes, boxRays);
-        const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
-        const BvhSubtree root = ref.subtree();
-        changed = bvh.intersectLoadedPacket(*packet, *loaded, lanes & loaded->coherent, w.hits,
-                                            *w.ctx, root);
-        // Lanes the packet test does not take walk the same subtree alone: in a transformed
-        // instance, those with other object-space direction signs than the first (the identity
-        // packet loads every lane of the walk).
-        for (unsigned m = lanes & ~loaded->coherent; m != 0; m &= m - 1) {
-          const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (bvh.intersectSubtree(BvhAccel::packetLane(*packet, *loaded, l), w.hits[l], root.child,
-                                   root.count, *w.ctx))
-            changed |= 1u << l;
-        }
-      } else {
-        changed =
-            inst.accel->intersectPacket(w.objectPacket(inst, lanes, tfar), lanes, w.hits, *w.ctx);
-      }
-      for (unsigned m = changed; m != 0; m &= m - 1) {
-        const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-        boxRays.tfar[l] = std::min(boxRays.tfar[l], w.hits[l].t);
-      }
-    }
+    for (std::uint32_t k = first; k < first + count; ++k)
+      w.intersectRef(w.top->refs_[k], lanes, boxRays);
     return 0;
   }
 
@@ -640,6 +655,50 @@ struct TopLevelPacketWalk {
   }
 };
 
+/// Two neighbouring packets walking the top level as one pair (PairTraverseFn), each half with
+/// its own TopLevelPacketWalk (its loaded rows, its identity and transformed packets). A BvhAccel
+/// instance that both halves enter is walked as a pair too (BvhAccel::intersectLoadedPair).
+struct TopLevelPairWalk {
+  TopLevelPacketWalk* half[2];
+
+  static void intersectLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
+                            PacketBoxRays* const (&rays)[2]) {
+    auto& p = *static_cast<TopLevelPairWalk*>(user);
+    const unsigned halfLanes[2] = {lanes & kAllLanes, lanes >> kPacketLanes};
+    const TopLevelBvh* top = p.half[0]->top;
+    for (std::uint32_t k = first; k < first + count; ++k) {
+      const TopLevelBvh::Ref& ref = top->refs_[k];
+      const InstanceRecord& inst = top->instances_[ref.instance];
+      if (halfLanes[0] == 0 || halfLanes[1] == 0 || !isBvhAccel(*inst.accel)) {
+        for (unsigned h = 0; h < 2; ++h)
+          if (halfLanes[h] != 0) p.half[h]->intersectRef(ref, halfLanes[h], *rays[h]);
+        continue;
+      }
+      const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+      BvhAccel::LoadedHalf loaded[2];
+      for (unsigned h = 0; h < 2; ++h) {
+        const auto [packet, rows] = p.half[h]->bvhPacket(inst, halfLanes[h], *rays[h]);
+        loaded[h] = {packet, rows, halfLanes[h] & rows->coherent, p.half[h]->hits};
+      }
+      unsigned changed[2];
+      bvh.intersectLoadedPair(loaded, *p.half[0]->ctx, ref.subtree(), changed);
+      for (unsigned h = 0; h < 2; ++h) {
+        changed[h] |= p.half[h]->intersectIncoherent(bvh, ref.subtree(),
+                                                     halfLanes[h] & ~loaded[h].rays->coherent,
+                                                     *loaded[h].packet, *loaded[h].rays);
+        p.half[h]->lowerTfar(changed[h], *rays[h]);
+      }
+    }
+  }
+
+  static void intersectSingle(void* user, std::uint32_t child, unsigned lane,
+                              PacketBoxRays* const (&rays)[2]) {
+    auto& p = *static_cast<TopLevelPairWalk*>(user);
+    const unsigned h = lane / kPacketLanes;
+    TopLevelPacketWalk::intersectSingle(p.half[h], child, lane % kPacketLanes, *rays[h]);
+  }
+};
+
 // Lanes whose direction signs differ cannot share box rows (shadow rays towards a light among
 // their origins, say): each group of equal signs walks as a packet of its own, and groups too
 // small for one go lane by lane.
@@ -650,6 +709,44 @@ void TopLevelBvh::intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
   TopLevelPacketWalk::walkGroups(this, rays, hits, ctx, false, &TopLevelPacketWalk::intersectLeaf,
                                  &TopLevelPacketWalk::intersectSingle, lanes);
   TopLevelAccel::intersectPacket(rays, lanes, hits, ctx);
+}
+
+void TopLevelBvh::intersectPacketPair(const Ray* rays, unsigned lanes, Hit* hits,
+                                      TraversalContext& ctx) const {
+  const PacketKernels& kernels = activePacketKernels();
+  if (lanes == 0 || bvh_.nodes.empty() || kernels.traversePair == nullptr) {
+    TopLevelAccel::intersectPacketPair(rays, lanes, hits, ctx);
+    return;
+  }
+  TopLevelPacketWalk walk[2] = {{this, rays, hits, &ctx, &kernels},
+                                {this, rays + kPacketLanes, hits + kPacketLanes, &ctx, &kernels}};
+  PacketBoxRays boxRays[2];
+  // Per half: the lanes left for intersectPacket (other signs than the half's first traceable
+  // lane) and the group that walks, less its lanes that miss the top level's box when the rays
+  // come from outside it (as walkGroups does).
+  unsigned rest[2], group[2];
+  for (unsigned h = 0; h < 2; ++h) {
+    rest[h] = (lanes >> (kPacketLanes * h)) & kAllLanes;
+    group[h] = rest[h] != 0 ? walk[h].load(rest[h], boxRays[h]) : 0;
+    rest[h] &= ~group[h];
+    if (group[h] != 0 && !bvh_.bounds.contains(walk[h].rays[__builtin_ctz(group[h])].origin))
+      group[h] = kernels.meetsOneBox(outerBounds_, boxRays[h], group[h]);
+  }
+  if (group[0] != 0 && group[1] != 0 && boxRays[0].signs == boxRays[1].signs &&
+      laneCount(group[0]) + laneCount(group[1]) >= 2 * kMinPacketLanes) {
+    TopLevelPairWalk pair{{&walk[0], &walk[1]}};
+    PacketBoxRays* const box[2] = {&boxRays[0], &boxRays[1]};
+    kernels.traversePair(bvh_.nodes.data(), 0, 0, box, group[0] | (group[1] << kPacketLanes),
+                         &TopLevelPairWalk::intersectLeaf, &TopLevelPairWalk::intersectSingle,
+                         &pair, ctx.nodeVisits);
+  } else {
+    // No pair: each half's group walks as intersectPacket walks it.
+    rest[0] |= group[0];
+    rest[1] |= group[1];
+  }
+  for (unsigned h = 0; h < 2; ++h)
+    if (rest[h] != 0)
+      intersectPacket(rays + kPacketLanes * h, rest[h], hits + kPacketLanes * h, ctx);
 }
 
 unsigned TopLevelBvh::occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const {

@@ -37,11 +37,14 @@ class TopLevelBvh final : public TopLevelAccel {
   bool occluded(const Ray& ray, TraversalContext& ctx) const override;
   void intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
                        TraversalContext& ctx) const override;
+  void intersectPacketPair(const Ray* rays, unsigned lanes, Hit* hits,
+                           TraversalContext& ctx) const override;
   unsigned occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const override;
   const TopLevelStats& stats() const override { return stats_; }
 
  private:
   friend struct TopLevelPacketWalk;
+  friend struct TopLevelPairWalk;
 
   /// True when ray (traceable) is blocked by the triangle ctx.occluder names, if it names one
   /// of this build (see TraversalContext::OccluderHint).

@@ -320,26 +320,41 @@ void EmbreeBenchScene::intersect1(std::span<const Ray> rays, std::span<RayOutcom
   });
 }
 
-void EmbreeBenchScene::intersect8(std::span<const Ray> rays, ImageSize size,
-                                  std::span<RayOutcome> out) const {
-  RTCScene top = state_->top;
-  const int blocksX = (size.width + 3) / 4;
-  const int blocksY = (size.height + 1) / 2;
-  // Each task takes whole 4x2 blocks: a block row covers two image rows.
+namespace {
+
+/// rtcIntersect8 or rtcIntersect16 on one packet (Embree's packet types differ only in width).
+void intersectPacket(const int* valid, RTCScene scene, RTCIntersectContext* context,
+                     RTCRayHit8& packet) {
+  rtcIntersect8(valid, scene, context, &packet);
+}
+void intersectPacket(const int* valid, RTCScene scene, RTCIntersectContext* context,
+                     RTCRayHit16& packet) {
+  rtcIntersect16(valid, scene, context, &packet);
+}
+
+/// Embree's packets of Lanes rays over BlockWidth x (Lanes / BlockWidth) pixel blocks of an
+/// image's row-major primary rays; lanes outside the image are masked off.
+template <class Packet, int Lanes, int BlockWidth>
+void intersectBlocks(RTCScene top, std::span<const Ray> rays, ImageSize size,
+                     std::span<RayOutcome> out) {
+  constexpr int kBlockHeight = Lanes / BlockWidth;
+  const int blocksX = (size.width + BlockWidth - 1) / BlockWidth;
+  const int blocksY = (size.height + kBlockHeight - 1) / kBlockHeight;
+  // Each task takes whole blocks: a block row covers kBlockHeight image rows.
   tbb::parallel_for(
       tbb::blocked_range<int>(0, blocksX * blocksY, 32), [&](const tbb::blocked_range<int>& r) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        // Embree loads the packet and the valid mask with aligned 256-bit moves: both need
-        // 32-byte alignment (RTCRayHit8 declares it, the mask must be given it).
-        RTCRayHit8 packet;
-        alignas(32) int valid[8];
-        std::size_t index[8];
+        // Embree loads the packet and the valid mask with aligned full-width moves: both need
+        // the packet's alignment (its type declares it, the mask must be given it).
+        Packet packet;
+        alignas(64) int valid[Lanes];
+        std::size_t index[Lanes];
         for (int block = r.begin(); block != r.end(); ++block) {
-          const int x0 = (block % blocksX) * 4, y0 = (block / blocksX) * 2;
-          for (int lane = 0; lane < 8; ++lane) {
-            const int x = x0 + lane % 4, y = y0 + lane / 4;
+          const int x0 = (block % blocksX) * BlockWidth, y0 = (block / blocksX) * kBlockHeight;
+          for (int lane = 0; lane < Lanes; ++lane) {
+            const int x = x0 + lane % BlockWidth, y = y0 + lane / BlockWidth;
             valid[lane] = x < size.width && y < size.height ? -1 : 0;
             index[lane] = valid[lane] ? static_cast<std::size_t>(y) * size.width + x : 0;
             const Ray& ray = rays[index[lane]];
@@ -358,14 +373,26 @@ void EmbreeBenchScene::intersect8(std::span<const Ray> rays, ImageSize size,
             packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
             packet.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
           }
-          rtcIntersect8(valid, top, &context, &packet);
-          for (int lane = 0; lane < 8; ++lane) {
+          intersectPacket(valid, top, &context, packet);
+          for (int lane = 0; lane < Lanes; ++lane) {
             if (!valid[lane]) continue;
             out[index[lane]] = outcome(packet.hit.geomID[lane], packet.hit.instID[0][lane],
                                        packet.hit.primID[lane]);
           }
         }
       });
+}
+
+}  // namespace
+
+void EmbreeBenchScene::intersect8(std::span<const Ray> rays, ImageSize size,
+                                  std::span<RayOutcome> out) const {
+  intersectBlocks<RTCRayHit8, 8, 4>(state_->top, rays, size, out);
+}
+
+void EmbreeBenchScene::intersect16(std::span<const Ray> rays, ImageSize size,
+                                   std::span<RayOutcome> out) const {
+  intersectBlocks<RTCRayHit16, 16, 4>(state_->top, rays, size, out);
 }
 
 void EmbreeBenchScene::occluded1(std::span<const Ray> rays, std::span<std::uint8_t> out) const {

@@ -128,18 +128,21 @@ void occludedPacketsOurs(const Scene& scene, std::span<const Ray> rays, std::spa
                     });
 }
 
-/// Pixel indices in the order embree-intersect8 packs its packets: 4 x 2 blocks, row of blocks
-/// by row of blocks; pixels outside the image are left out.
+/// Pixel indices in packet order: 4 x 2 blocks (the pixels embree-intersect8 packs in a packet),
+/// the two of each 4 x 4 block one after the other (those embree-intersect16 packs, and the
+/// pairs of packets our scene walks as one where its kernels can), 4 x 4 blocks row by row;
+/// pixels outside the image are left out.
 std::vector<std::uint32_t> blockOrder(ImageSize size) {
   std::vector<std::uint32_t> order;
   order.reserve(size.pixels());
-  for (int y0 = 0; y0 < size.height; y0 += 2)
+  for (int y4 = 0; y4 < size.height; y4 += 4)
     for (int x0 = 0; x0 < size.width; x0 += 4)
-      for (int lane = 0; lane < 8; ++lane) {
-        const int x = x0 + lane % 4, y = y0 + lane / 4;
-        if (x < size.width && y < size.height)
-          order.push_back(static_cast<std::uint32_t>(y * size.width + x));
-      }
+      for (int y0 = y4; y0 < std::min(y4 + 4, size.height); y0 += 2)
+        for (int lane = 0; lane < 8; ++lane) {
+          const int x = x0 + lane % 4, y = y0 + lane / 4;
+          if (x < size.width && y < size.height)
+            order.push_back(static_cast<std::uint32_t>(y * size.width + x));
+        }
   return order;
 }
 
@@ -388,6 +391,7 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
     } else {
       auto theirs1 = std::make_shared<std::vector<RayOutcome>>(n);
       auto theirs8 = std::make_shared<std::vector<RayOutcome>>(n);
+      auto theirs16 = std::make_shared<std::vector<RayOutcome>>(n);
       add(
           prefix + "intersect1", [&peer, &rays, theirs1] { peer.intersect1(rays, *theirs1); },
           [&, theirs1](BenchRow& row) {
@@ -400,6 +404,13 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
           [&, theirs8](BenchRow& row) {
             addMismatches(row, compareOutcomes(ours, *theirs8), true);
             judgeClosest(row, *theirs8);
+          });
+      add(
+          prefix + "intersect16",
+          [&peer, &rays, &options, theirs16] { peer.intersect16(rays, options.size, *theirs16); },
+          [&, theirs16](BenchRow& row) {
+            addMismatches(row, compareOutcomes(ours, *theirs16), true);
+            judgeClosest(row, *theirs16);
           });
     }
   }

@@ -117,37 +117,45 @@ TileResult renderTile(const detail::Shader& shader, const Scene& scene, const Ca
       scratch.planeX[x - rect.x0] = camera.planeX(static_cast<double>(x) + 0.5);
     for (std::uint32_t y = rect.y0; y < rect.y1; ++y)
       scratch.planeY[y - rect.y0] = camera.planeY(static_cast<double>(y) + 0.5);
-    // Pixels in block order: the rays of one 4 x 2 block are consecutive. Every ray of the
-    // tile is made before any is traced: rays read back by the packet load right after the
-    // stores that wrote them stalled on those stores.
+    // Pixels in block order: the rays of one 4 x 2 block are consecutive, and the two 4 x 2
+    // blocks of each 4 x 4 block follow each other (the scene walks two full packets as one where
+    // its kernels can). Every ray of the tile is made before any is traced: rays read back by
+    // the packet load right after the stores that wrote them stalled on those stores.
     std::size_t count = 0;
     scratch.blockEnds.clear();
-    for (std::uint32_t y0 = rect.y0; y0 < rect.y1; y0 += 2) {
+    for (std::uint32_t y4 = rect.y0; y4 < rect.y1; y4 += 4) {
       for (std::uint32_t x0 = rect.x0; x0 < rect.x1; x0 += 4) {
-        // Lanes in pairs of horizontal neighbours, made together (Camera::rayPairThroughPlane).
-        for (std::uint32_t lane = 0; lane < kRayPacketSize; lane += 2) {
-          const std::uint32_t x = x0 + lane % 4, y = y0 + lane / 4;
-          if (x >= rect.x1 || y >= rect.y1) continue;
-          const double sy = scratch.planeY[y - rect.y0];
-          scratch.px[count] = x;
-          scratch.py[count] = y;
-          if (x + 1 < rect.x1) {
-            scratch.px[count + 1] = x + 1;
-            scratch.py[count + 1] = y;
-            camera.rayPairThroughPlane(scratch.planeX[x - rect.x0], scratch.planeX[x + 1 - rect.x0],
-                                       sy, &scratch.rays[count]);
-            count += 2;
-          } else {
-            // camera.primaryRay(x, y), bit for bit, made in place (no temporary to copy).
-            ::new (static_cast<void*>(&scratch.rays[count++]))
-                Ray(camera.rayThroughPlane(scratch.planeX[x - rect.x0], sy));
+        for (std::uint32_t y0 = y4; y0 < std::min(y4 + 4, rect.y1); y0 += 2) {
+          // Lanes in pairs of horizontal neighbours, made together (Camera::rayPairThroughPlane).
+          for (std::uint32_t lane = 0; lane < kRayPacketSize; lane += 2) {
+            const std::uint32_t x = x0 + lane % 4, y = y0 + lane / 4;
+            if (x >= rect.x1 || y >= rect.y1) continue;
+            const double sy = scratch.planeY[y - rect.y0];
+            scratch.px[count] = x;
+            scratch.py[count] = y;
+            if (x + 1 < rect.x1) {
+              scratch.px[count + 1] = x + 1;
+              scratch.py[count + 1] = y;
+              camera.rayPairThroughPlane(scratch.planeX[x - rect.x0],
+                                         scratch.planeX[x + 1 - rect.x0], sy, &scratch.rays[count]);
+              count += 2;
+            } else {
+              // camera.primaryRay(x, y), bit for bit, made in place (no temporary to copy).
+              ::new (static_cast<void*>(&scratch.rays[count++]))
+                  Ray(camera.rayThroughPlane(scratch.planeX[x - rect.x0], sy));
+            }
           }
+          scratch.blockEnds.push_back(static_cast<std::uint32_t>(count));
         }
-        scratch.blockEnds.push_back(static_cast<std::uint32_t>(count));
       }
     }
-    std::size_t first = 0;
-    for (const std::uint32_t end : scratch.blockEnds) {
+    // Block by block, two full blocks in a row together: a partial block (at the tile's edge)
+    // goes alone, so that every packet the scene makes is one block.
+    for (std::size_t b = 0, first = 0; b < scratch.blockEnds.size();) {
+      std::size_t end = scratch.blockEnds[b++];
+      if (end - first == kRayPacketSize && b < scratch.blockEnds.size() &&
+          scratch.blockEnds[b] - end == kRayPacketSize)
+        end = scratch.blockEnds[b++];
       scene.intersect(std::span<const Ray>(scratch.rays.data() + first, end - first),
                       std::span<Hit>(scratch.hits.data() + first, end - first), ctx);
       first = end;

@@ -74,6 +74,13 @@ class TopLevelAccel {
   /// the hits of the other lanes are left as they are. The default traces lane by lane.
   virtual void intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
                                TraversalContext& ctx) const;
+  /// intersectPacket for two neighbouring packets at once: `rays` and `hits` hold
+  /// 2 * kRayPacketSize entries, bit kRayPacketSize * h + l of `lanes` is lane l of packet h.
+  /// Same answers as intersectPacket on each packet; an accelerator whose packets share their
+  /// walk (one node test for the lanes of both) overrides it. The default traces packet by
+  /// packet.
+  virtual void intersectPacketPair(const Ray* rays, unsigned lanes, Hit* hits,
+                                   TraversalContext& ctx) const;
   /// Any-hit counterpart of intersectPacket: returns the lanes that are occluded (never one
   /// whose ray is not traceable).
   virtual unsigned occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const;
