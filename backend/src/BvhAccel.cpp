@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include "Bvh4Refit.h"
 #include "Bvh8Walk.h"
@@ -757,15 +758,98 @@ namespace {
 /// The halves' closest-hit contexts of a pair walk, passed through the kernel as `user`.
 struct ClosestPairContext {
   ClosestLeafContext half[2];
+  /// Whether the halves' triangle rows share their axis permutation, so that leaves both test
+  /// with SIMD go through the pair triangle test.
+  bool sharedPermutation = false;
+  /// Whether `rows` holds both halves' triangle rows (made at the first leaf that needs them).
+  bool rowsReady = false;
+  PairTriangleRays rows;
 };
+
+/// Both halves' triangle rows as one pair's (half h in lanes 8h to 8h + 7).
+void loadPairRows(const PacketTriangleRays& low, const PacketTriangleRays& high,
+                  PairTriangleRays& out) {
+  const auto both = [](const auto& a, const auto& b, auto& to) {
+    std::memcpy(to, a, sizeof(a));
+    std::memcpy(to + kPacketLanes, b, sizeof(b));
+  };
+  for (int a = 0; a < 3; ++a) {
+    both(low.origin[a], high.origin[a], out.origin[a]);
+    both(low.originD[a], high.originD[a], out.originD[a]);
+    both(low.directionD[a], high.directionD[a], out.directionD[a]);
+  }
+  both(low.sx, high.sx, out.sx);
+  both(low.sy, high.sy, out.sy);
+  both(low.tnear, high.tnear, out.tnear);
+  out.kx = low.kx;
+  out.ky = low.ky;
+  out.kz = low.kz;
+}
+
+/// Records a hit of pair lane `lane` on triangle k (from the SIMD test when `th` is given, else
+/// by the scalar test), lowering its half's tfar, as intersectPacketLeaf records hits.
+void recordPairLane(ClosestPairContext& c, PacketBoxRays* const (&rays)[2], unsigned lane,
+                    std::uint32_t k, const TriangleHit* th) {
+  const unsigned h = lane / kPacketLanes, l = lane % kPacketLanes;
+  ClosestLeafContext& half = c.half[h];
+  const bool found = th != nullptr
+                         ? recordHit(half.packet->rays[l], *th, half.accel->primId(k), half.hits[l])
+                         : half.accel->intersectTriangle(half.lane(l), half.hits[l], k);
+  if (found) {
+    rays[h]->tfar[l] = half.packet->rays[l].tfar;
+    half.changed |= 1u << l;
+  }
+}
 
 void intersectPairLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
                        PacketBoxRays* const (&rays)[2]) {
   auto& c = *static_cast<ClosestPairContext*>(user);
-  for (unsigned h = 0; h < 2; ++h) {
-    const unsigned half = (lanes >> (kPacketLanes * h)) & kAllLanes;
-    if (half != 0) intersectPacketLeaf(&c.half[h], first, count, half, *rays[h]);
+  const unsigned halfLanes[2] = {lanes & kAllLanes, lanes >> kPacketLanes};
+  const unsigned simd[2] = {halfLanes[0] & c.half[0].rays->filtered,
+                            halfLanes[1] & c.half[1].rays->filtered};
+  if (simd[0] == 0 || simd[1] == 0 || !c.sharedPermutation) {
+    for (unsigned h = 0; h < 2; ++h)
+      if (halfLanes[h] != 0) intersectPacketLeaf(&c.half[h], first, count, halfLanes[h], *rays[h]);
+    return;
   }
+  // Both halves test the leaf with SIMD: one test of sixteen lanes, the triangle's plane made
+  // once, instead of one per half.
+  if (!c.rowsReady) {
+    loadPairRows(c.half[0].rays->triangles, c.half[1].rays->triangles, c.rows);
+    c.rowsReady = true;
+  }
+  const BvhAccel& accel = *c.half[0].accel;
+  c.half[0].ctx->triangleTests +=
+      static_cast<std::uint64_t>(laneCount(simd[0]) + laneCount(simd[1])) * count;
+  const unsigned live = simd[0] | (simd[1] << kPacketLanes);
+  PairTriangleHits out;
+  for (std::uint32_t base = first; base < first + count;) {
+    const std::uint32_t n = std::min(kTriangleBatch, first + count - base);
+    alignas(64) float tfar[kPairLanes];
+    std::memcpy(tfar, rays[0]->tfar, sizeof(rays[0]->tfar));
+    std::memcpy(tfar + kPacketLanes, rays[1]->tfar, sizeof(rays[1]->tfar));
+    const std::uint32_t done = c.half[0].kernels->testTrianglesPair(
+        accel.leafTriangles(first, count, base), n, c.rows, tfar, live, out);
+    for (std::uint32_t i = 0; i < done; ++i) {
+      for (unsigned m = out.hit[i]; m != 0; m &= m - 1) {
+        const unsigned lane = static_cast<unsigned>(__builtin_ctz(m));
+        const TriangleHit th{out.t[i][lane], out.u[i][lane], out.v[i][lane],
+                             Vec3d(out.normal[i][0], out.normal[i][1], out.normal[i][2])};
+        recordPairLane(c, rays, lane, base + i, &th);
+      }
+      for (unsigned m = out.exact[i]; m != 0; m &= m - 1)
+        recordPairLane(c, rays, static_cast<unsigned>(__builtin_ctz(m)), base + i, nullptr);
+    }
+    base += done;
+  }
+  // Lanes outside the SIMD layout, lane by lane.
+  for (unsigned h = 0; h < 2; ++h)
+    for (unsigned rest = halfLanes[h] & ~simd[h]; rest != 0; rest &= rest - 1) {
+      const unsigned lane = kPacketLanes * h + static_cast<unsigned>(__builtin_ctz(rest));
+      c.half[0].ctx->triangleTests += count;
+      for (std::uint32_t k = first; k < first + count; ++k)
+        recordPairLane(c, rays, lane, k, nullptr);
+    }
 }
 
 void intersectPairSingleLane(void* user, std::uint32_t child, unsigned lane,
@@ -791,10 +875,14 @@ void BvhAccel::intersectLoadedPair(const LoadedHalf (&halves)[2], TraversalConte
                                          halves[h].hits, ctx, root);
     return;
   }
-  ClosestPairContext c{
-      {ClosestLeafContext{{this, &ctx, halves[0].rays, kernels, halves[0].packet}, halves[0].hits},
-       ClosestLeafContext{{this, &ctx, halves[1].rays, kernels, halves[1].packet},
-                          halves[1].hits}}};
+  ClosestPairContext c;
+  for (unsigned h = 0; h < 2; ++h)
+    c.half[h] =
+        ClosestLeafContext{{this, &ctx, halves[h].rays, kernels, halves[h].packet}, halves[h].hits};
+  const PacketTriangleRays& low = halves[0].rays->triangles;
+  const PacketTriangleRays& high = halves[1].rays->triangles;
+  c.sharedPermutation = kernels->testTrianglesPair != nullptr && low.kx == high.kx &&
+                        low.ky == high.ky && low.kz == high.kz;
   PacketBoxRays* const box[2] = {&halves[0].rays->box, &halves[1].rays->box};
   kernels->traversePair(nodes_.data(), root.child, root.count, box,
                         halves[0].lanes | (halves[1].lanes << kPacketLanes), &intersectPairLeaf,

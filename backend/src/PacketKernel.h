@@ -87,32 +87,40 @@ using PairTraverseFn = void (*)(const Bvh4Node* nodes, std::uint32_t rootChild,
                                 unsigned lanes, PairLeafFn leaf, PairSingleFn single, void* user,
                                 std::uint64_t& nodeVisits);
 
-/// The lanes of a packet as the watertight triangle test sees them, for lanes that share the
-/// axis permutation (kx, ky, kz) of WatertightRay.
-struct alignas(64) PacketTriangleRays {
+/// The lanes of a packet (kLanes of them: kPacketLanes, or kPairLanes for a pair) as the
+/// watertight triangle test sees them, for lanes that share the axis permutation (kx, ky, kz)
+/// of WatertightRay.
+template <unsigned kLanes>
+struct alignas(64) TriangleRaysOf {
   /// WatertightRay::origin per axis and lane.
-  float origin[3][kPacketLanes];
+  float origin[3][kLanes];
   /// WatertightRay::sx per lane.
-  float sx[kPacketLanes];
+  float sx[kLanes];
   /// WatertightRay::sy per lane.
-  float sy[kPacketLanes];
+  float sy[kLanes];
   /// WatertightRay::tnear per lane.
-  float tnear[kPacketLanes];
+  float tnear[kLanes];
   /// WatertightRay::originD per axis and lane: the double ray on which t is refined.
-  double originD[3][kPacketLanes];
+  double originD[3][kLanes];
   /// WatertightRay::directionD per axis and lane.
-  double directionD[3][kPacketLanes];
+  double directionD[3][kLanes];
   ///@{
   /// The shared axis permutation.
   int kx = 0, ky = 1, kz = 2;
   ///@}
 };
 
+/// The triangle-test rays of one packet.
+using PacketTriangleRays = TriangleRaysOf<kPacketLanes>;
+/// The triangle-test rays of a pair of packets (lane 8h + l is lane l of half h).
+using PairTriangleRays = TriangleRaysOf<kPairLanes>;
+
 /// Triangles one call of the packet triangle test takes at most.
 inline constexpr std::uint32_t kTriangleBatch = 8;
 
-/// What one call of the packet triangle test found, per triangle i of the batch.
-struct alignas(64) PacketTriangleHits {
+/// What one call of the triangle test found for kLanes lanes, per triangle i of the batch.
+template <unsigned kLanes>
+struct alignas(64) TriangleHitsOf {
   /// Lanes that hit triangle i within [tnear, tfar] (tfar as lowered by the batch's earlier
   /// hits), with t, u and v below.
   unsigned hit[kTriangleBatch];
@@ -120,14 +128,19 @@ struct alignas(64) PacketTriangleHits {
   /// decides them (in double). Never also in hit[i].
   unsigned exact[kTriangleBatch];
   /// Distance of the hit per lane (valid in hit[i]).
-  float t[kTriangleBatch][kPacketLanes];
+  float t[kTriangleBatch][kLanes];
   ///@{
   /// Barycentrics per lane (valid in hit[i]).
-  float u[kTriangleBatch][kPacketLanes], v[kTriangleBatch][kPacketLanes];
+  float u[kTriangleBatch][kLanes], v[kTriangleBatch][kLanes];
   ///@}
   /// cross(v1 - v0, v2 - v0) in double (TriangleHit::normal), valid when hit[i] is not empty.
   double normal[kTriangleBatch][3];
 };
+
+/// What the triangle test found for one packet.
+using PacketTriangleHits = TriangleHitsOf<kPacketLanes>;
+/// What the triangle test found for a pair of packets.
+using PairTriangleHits = TriangleHitsOf<kPairLanes>;
 
 /// Where a run of triangles keeps its vertices: component a of vertex v of triangle i is
 /// at[(3 * v + a) * componentStride + i * triangleStride]. Packed triangles (9 floats each: v0,
@@ -147,6 +160,12 @@ struct TriangleFloats {
 using TriangleTestFn = std::uint32_t (*)(const TriangleFloats& vertices, std::uint32_t count,
                                          const PacketTriangleRays& rays, const float* tfar,
                                          unsigned lanes, bool anyHit, PacketTriangleHits& out);
+
+/// TriangleTestFn for the closest hits of a pair's lanes (kPairLanes), whose halves share their
+/// axis permutation.
+using PairTriangleTestFn = std::uint32_t (*)(const TriangleFloats& vertices, std::uint32_t count,
+                                             const PairTriangleRays& rays, const float* tfar,
+                                             unsigned lanes, PairTriangleHits& out);
 
 /// Loads rays[0..kPacketLanes) (all of them are read) for a packet walk: leaves in `lanes` only
 /// its lanes whose rays are traceable (isTraceable), writes into `out` the box rays of those
@@ -209,6 +228,8 @@ struct PacketKernels {
   /// The closest-hit walk of two packets as one; null where the instruction set has no register
   /// as wide as a pair (sixteen floats), whose node test would then cost as much as two walks.
   PairTraverseFn traversePair = nullptr;
+  /// The triangle test of a pair's lanes; null where traversePair is.
+  PairTriangleTestFn testTrianglesPair = nullptr;
 };
 
 /// The portable kernels (SSE on x86-64).

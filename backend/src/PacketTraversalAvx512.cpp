@@ -85,6 +85,80 @@ struct Avx512NodeTest : Avx8LaneOps {
   }
 };
 
+/// Sixteen doubles in two AVX-512 registers (lanes 0-7, 8-15).
+struct Doubles16 {
+  __m512d lo, hi;
+  static Doubles16 load(const double* p) { return {_mm512_load_pd(p), _mm512_load_pd(p + 8)}; }
+  static Doubles16 broadcast(double x) { return {_mm512_set1_pd(x), _mm512_set1_pd(x)}; }
+  friend Doubles16 operator+(Doubles16 a, Doubles16 b) {
+    return {_mm512_add_pd(a.lo, b.lo), _mm512_add_pd(a.hi, b.hi)};
+  }
+  friend Doubles16 operator-(Doubles16 a, Doubles16 b) {
+    return {_mm512_sub_pd(a.lo, b.lo), _mm512_sub_pd(a.hi, b.hi)};
+  }
+  friend Doubles16 operator*(Doubles16 a, Doubles16 b) {
+    return {_mm512_mul_pd(a.lo, b.lo), _mm512_mul_pd(a.hi, b.hi)};
+  }
+  friend Doubles16 operator/(Doubles16 a, Doubles16 b) {
+    return {_mm512_div_pd(a.lo, b.lo), _mm512_div_pd(a.hi, b.hi)};
+  }
+  /// Lanes where x != 0 (NaN included).
+  static unsigned nonZero(Doubles16 x) {
+    const __m512d zero = _mm512_setzero_pd();
+    return static_cast<unsigned>(_mm512_cmp_pd_mask(x.lo, zero, _CMP_NEQ_UQ)) |
+           static_cast<unsigned>(_mm512_cmp_pd_mask(x.hi, zero, _CMP_NEQ_UQ)) << 8;
+  }
+};
+
+/// Sixteen lanes in one AVX-512 register, for the pair triangle test (PacketTriangleTest.h):
+/// Lanes8's operations and comparisons at twice the width, so each lane's bits are the same.
+struct Lanes16 {
+  static constexpr unsigned kWidth = 16;
+  using Doubles = Doubles16;
+  __m512 v;
+  static Lanes16 load(const float* p) { return {_mm512_load_ps(p)}; }
+  static Lanes16 broadcast(float x) { return {_mm512_set1_ps(x)}; }
+  void store(float* p) const { _mm512_store_ps(p, v); }
+  friend Lanes16 operator+(Lanes16 a, Lanes16 b) { return {_mm512_add_ps(a.v, b.v)}; }
+  friend Lanes16 operator-(Lanes16 a, Lanes16 b) { return {_mm512_sub_ps(a.v, b.v)}; }
+  friend Lanes16 operator*(Lanes16 a, Lanes16 b) { return {_mm512_mul_ps(a.v, b.v)}; }
+  friend Lanes16 operator/(Lanes16 a, Lanes16 b) { return {_mm512_div_ps(a.v, b.v)}; }
+  /// Rounds each double to the nearest float, as static_cast<float> does.
+  static Lanes16 fromDoubles(Doubles16 x) {
+    return {_mm512_castpd_ps(
+        _mm512_insertf64x4(_mm512_castps_pd(_mm512_castps256_ps512(_mm512_cvtpd_ps(x.lo))),
+                           _mm256_castps_pd(_mm512_cvtpd_ps(x.hi)), 1))};
+  }
+  static Lanes16 select(unsigned bits, Lanes16 a, Lanes16 b) {
+    return {_mm512_mask_blend_ps(static_cast<__mmask16>(bits), b.v, a.v)};
+  }
+  static unsigned anyZero(Lanes16 u, Lanes16 v, Lanes16 w) {
+    const __m512 zero = _mm512_setzero_ps();
+    return static_cast<unsigned>(_mm512_cmp_ps_mask(u.v, zero, _CMP_EQ_OQ) |
+                                 _mm512_cmp_ps_mask(v.v, zero, _CMP_EQ_OQ) |
+                                 _mm512_cmp_ps_mask(w.v, zero, _CMP_EQ_OQ));
+  }
+  static unsigned inside(Lanes16 u, Lanes16 v, Lanes16 w) {
+    const __m512 zero = _mm512_setzero_ps();
+    const unsigned anyNegative = _mm512_cmp_ps_mask(u.v, zero, _CMP_LT_OQ) |
+                                 _mm512_cmp_ps_mask(v.v, zero, _CMP_LT_OQ) |
+                                 _mm512_cmp_ps_mask(w.v, zero, _CMP_LT_OQ);
+    const unsigned anyPositive = _mm512_cmp_ps_mask(u.v, zero, _CMP_GT_OQ) |
+                                 _mm512_cmp_ps_mask(v.v, zero, _CMP_GT_OQ) |
+                                 _mm512_cmp_ps_mask(w.v, zero, _CMP_GT_OQ);
+    const __m512 det = _mm512_add_ps(_mm512_add_ps(u.v, v.v), w.v);
+    // NEQ_UQ: a NaN determinant goes on, as the scalar test's det == 0 lets it pass.
+    return ~(anyNegative & anyPositive) &
+           static_cast<unsigned>(_mm512_cmp_ps_mask(det, zero, _CMP_NEQ_UQ));
+  }
+  static unsigned inRange(Lanes16 t, Lanes16 tnear, Lanes16 tfar) {
+    const __m512 inf = _mm512_set1_ps(__builtin_inff());
+    return static_cast<unsigned>(_mm512_cmp_ps_mask(t.v, tnear.v, _CMP_GE_OQ) &
+                                 _mm512_cmp_ps_mask(t.v, tfar.v, _CMP_LE_OQ) &
+                                 _mm512_cmp_ps_mask(t.v, inf, _CMP_LT_OQ));
+  }
+};
+
 /// The rows of both halves of a pair in one register: half 0's lanes low, half 1's high.
 inline __m512 pairRow(const float* low, const float* high) {
   // insertf64x4 is AVX-512F (insertf32x8 would need DQ); moving bits, the lane type is moot.
@@ -161,6 +235,7 @@ PacketKernels packetKernelsAvx512() {
   PacketKernels kernels = packetKernelsWith<Avx512NodeTest, Lanes8>(
       &loadBoxRaysAvx, &loadTransformedRowsAvx, &loadIdentityRowsAvx, &meetsOneBoxAvx);
   kernels.traversePair = &traversePair<Avx512PairNodeTest>;
+  kernels.testTrianglesPair = &testTrianglesPairWith<Lanes16>;
   return kernels;
 }
 

@@ -209,6 +209,7 @@ PacketKernels packetKernelsWith(BoxRayLoadFn load, TransformedRowsFn loadTransfo
           loadTransformedRows,
           loadIdentityRows,
           meetsOneBox,
+          nullptr,
           nullptr};
 }
 

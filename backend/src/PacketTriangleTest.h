@@ -22,16 +22,16 @@ namespace {
 
 /// testTrianglesWith for a component stride of kStride floats, or of vertices.componentStride
 /// when kStride is 0.
-template <class V, std::size_t kStride>
+template <class V, std::size_t kStride, unsigned kLanes>
 std::uint32_t testTrianglesStrided(const TriangleFloats& vertices, std::uint32_t count,
-                                   const PacketTriangleRays& rays, const float* tfarIn,
-                                   unsigned lanes, bool anyHit, PacketTriangleHits& out) {
+                                   const TriangleRaysOf<kLanes>& rays, const float* tfarIn,
+                                   unsigned lanes, bool anyHit, TriangleHitsOf<kLanes>& out) {
   using D = typename V::Doubles;
   constexpr unsigned kWidthMask = (1u << V::kWidth) - 1u;
   const int kx = rays.kx, ky = rays.ky, kz = rays.kz;
   // tfar is written and read in whole vectors only: a vector load of lanes just stored one by
   // one cannot be forwarded from the store buffer and waits for the stores to retire.
-  alignas(64) float tfar[kPacketLanes];
+  alignas(64) float tfar[kLanes];
   std::memcpy(tfar, tfarIn, sizeof(tfar));
   unsigned live = lanes;
   for (std::uint32_t i = 0; i < count; ++i) {
@@ -51,7 +51,7 @@ std::uint32_t testTrianglesStrided(const TriangleFloats& vertices, std::uint32_t
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
     unsigned hitMask = 0, exactMask = 0;
-    for (unsigned h = 0; h < kPacketLanes; h += V::kWidth) {
+    for (unsigned h = 0; h < kLanes; h += V::kWidth) {
       const unsigned sub = (live >> h) & kWidthMask;
       if (sub == 0) continue;
       const V ox = V::load(rays.origin[kx] + h), oy = V::load(rays.origin[ky] + h),
@@ -103,25 +103,33 @@ std::uint32_t testTrianglesStrided(const TriangleFloats& vertices, std::uint32_t
   return count;
 }
 
-template <class V>
+template <class V, unsigned kLanes = kPacketLanes>
 std::uint32_t testTrianglesWith(const TriangleFloats& vertices, std::uint32_t count,
-                                const PacketTriangleRays& rays, const float* tfarIn, unsigned lanes,
-                                bool anyHit, PacketTriangleHits& out) {
+                                const TriangleRaysOf<kLanes>& rays, const float* tfarIn,
+                                unsigned lanes, bool anyHit, TriangleHitsOf<kLanes>& out) {
   // The strides of packed triangles and of leaf rows (a leaf's size, at most four) as
   // constants: the vertex reads then take constant offsets, where a stride known only at run
   // time cost the kernel a fifth more instructions (BART kitchen packets).
   switch (vertices.componentStride) {
     case 1:
-      return testTrianglesStrided<V, 1>(vertices, count, rays, tfarIn, lanes, anyHit, out);
+      return testTrianglesStrided<V, 1, kLanes>(vertices, count, rays, tfarIn, lanes, anyHit, out);
     case 2:
-      return testTrianglesStrided<V, 2>(vertices, count, rays, tfarIn, lanes, anyHit, out);
+      return testTrianglesStrided<V, 2, kLanes>(vertices, count, rays, tfarIn, lanes, anyHit, out);
     case 3:
-      return testTrianglesStrided<V, 3>(vertices, count, rays, tfarIn, lanes, anyHit, out);
+      return testTrianglesStrided<V, 3, kLanes>(vertices, count, rays, tfarIn, lanes, anyHit, out);
     case 4:
-      return testTrianglesStrided<V, 4>(vertices, count, rays, tfarIn, lanes, anyHit, out);
+      return testTrianglesStrided<V, 4, kLanes>(vertices, count, rays, tfarIn, lanes, anyHit, out);
     default:
-      return testTrianglesStrided<V, 0>(vertices, count, rays, tfarIn, lanes, anyHit, out);
+      return testTrianglesStrided<V, 0, kLanes>(vertices, count, rays, tfarIn, lanes, anyHit, out);
   }
+}
+
+/// The closest-hit triangle test of a pair's lanes (PairTriangleTestFn).
+template <class V>
+std::uint32_t testTrianglesPairWith(const TriangleFloats& vertices, std::uint32_t count,
+                                    const PairTriangleRays& rays, const float* tfar, unsigned lanes,
+                                    PairTriangleHits& out) {
+  return testTrianglesWith<V, kPairLanes>(vertices, count, rays, tfar, lanes, false, out);
 }
 
 }  // namespace
