@@ -861,14 +861,49 @@ void intersectPairSingleLane(void* user, std::uint32_t child, unsigned lane,
 
 }  // namespace
 
+namespace {
+
+/// The halves' any-hit contexts of a pair walk, passed through the kernel as `user`.
+struct OccludedPairContext {
+  OccludedLeafContext half[2];
+};
+
+unsigned occludedPairLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
+                          PacketBoxRays* const (&rays)[2]) {
+  auto& c = *static_cast<OccludedPairContext*>(user);
+  unsigned blocked = 0;
+  for (unsigned h = 0; h < 2; ++h) {
+    const unsigned half = (lanes >> (kPacketLanes * h)) & kAllLanes;
+    if (half != 0)
+      blocked |= occludedPacketLeaf(&c.half[h], first, count, half, *rays[h]) << (kPacketLanes * h);
+  }
+  return blocked;
+}
+
+unsigned occludedPairSingleLane(void* user, std::uint32_t child, unsigned lane,
+                                PacketBoxRays* const (&rays)[2]) {
+  auto& c = *static_cast<OccludedPairContext*>(user);
+  const unsigned h = lane / kPacketLanes;
+  return occludedSingleLane(&c.half[h], child, lane % kPacketLanes, *rays[h]);
+}
+
+/// Whether two halves walk as one pair: the kernels have a pair walk, both halves have lanes,
+/// enough of them for the shared walk to pay, and the same direction signs.
+bool pairable(const BvhAccel::LoadedHalf (&halves)[2], bool anyHit) {
+  const PacketKernels& kernels = *halves[0].rays->kernels;
+  return (anyHit ? kernels.occludedPair != nullptr : kernels.traversePair != nullptr) &&
+         halves[0].lanes != 0 && halves[1].lanes != 0 &&
+         laneCount(halves[0].lanes) + laneCount(halves[1].lanes) >=
+             static_cast<int>(kPacketLanes) &&
+         halves[0].rays->box.signs == halves[1].rays->box.signs;
+}
+
+}  // namespace
+
 void BvhAccel::intersectLoadedPair(const LoadedHalf (&halves)[2], TraversalContext& ctx,
                                    const BvhSubtree& root, unsigned (&changed)[2]) const {
   const PacketKernels* kernels = halves[0].rays->kernels;
-  const bool paired =
-      !nodes_.empty() && kernels->traversePair != nullptr &&
-      laneCount(halves[0].lanes) + laneCount(halves[1].lanes) >= static_cast<int>(kPacketLanes) &&
-      halves[0].lanes != 0 && halves[1].lanes != 0 &&
-      halves[0].rays->box.signs == halves[1].rays->box.signs;
+  const bool paired = !nodes_.empty() && pairable(halves, false);
   if (!paired) {
     for (unsigned h = 0; h < 2; ++h)
       changed[h] = intersectLoadedPacket(*halves[h].packet, *halves[h].rays, halves[h].lanes,
@@ -889,6 +924,28 @@ void BvhAccel::intersectLoadedPair(const LoadedHalf (&halves)[2], TraversalConte
                         &intersectPairSingleLane, &c, ctx.nodeVisits);
   changed[0] = c.half[0].changed;
   changed[1] = c.half[1].changed;
+}
+
+void BvhAccel::occludedLoadedPair(const LoadedHalf (&halves)[2], TraversalContext& ctx,
+                                  const BvhSubtree& root, unsigned (&blocked)[2]) const {
+  if (nodes_.empty() || !pairable(halves, true)) {
+    for (unsigned h = 0; h < 2; ++h)
+      blocked[h] =
+          occludedLoadedPacket(*halves[h].packet, *halves[h].rays, halves[h].lanes, ctx, root);
+    return;
+  }
+  const PacketKernels* kernels = halves[0].rays->kernels;
+  OccludedPairContext c;
+  for (unsigned h = 0; h < 2; ++h)
+    c.half[h] = OccludedLeafContext{this, &ctx, halves[h].rays, kernels, halves[h].packet};
+  PacketBoxRays* const box[2] = {&halves[0].rays->box, &halves[1].rays->box};
+  // Slot order within objects, as single rays and packets walk them (AnyHitOrder::Slots).
+  const unsigned found =
+      kernels->occludedPair(nodes_.data(), root.child, root.count, box,
+                            halves[0].lanes | (halves[1].lanes << kPacketLanes), AnyHitOrder::Slots,
+                            &occludedPairLeaf, &occludedPairSingleLane, &c, ctx.nodeVisits);
+  blocked[0] = found & kAllLanes;
+  blocked[1] = found >> kPacketLanes;
 }
 
 unsigned BvhAccel::occludedLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays,

@@ -113,6 +113,11 @@ class BvhAccel final : public ObjectAccel {
   /// else half by half. Writes into changed[h] the lanes of half h whose hit changed.
   void intersectLoadedPair(const LoadedHalf (&halves)[2], TraversalContext& ctx,
                            const BvhSubtree& root, unsigned (&changed)[2]) const;
+  /// occludedLoadedPacket for two halves at once (their `hits` unused), walked as one pair
+  /// (PairOccludedFn) under the conditions of intersectLoadedPair; else half by half. Writes
+  /// into blocked[h] the lanes of half h found occluded.
+  void occludedLoadedPair(const LoadedHalf (&halves)[2], TraversalContext& ctx,
+                          const BvhSubtree& root, unsigned (&blocked)[2]) const;
   /// occludedPacket for lanes already loaded (see intersectLoadedPacket).
   unsigned occludedLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& rays, unsigned lanes,
                                 TraversalContext& ctx, const BvhSubtree& root = {}) const;

@@ -87,6 +87,25 @@ using PairTraverseFn = void (*)(const Bvh4Node* nodes, std::uint32_t rootChild,
                                 unsigned lanes, PairLeafFn leaf, PairSingleFn single, void* user,
                                 std::uint64_t& nodeVisits);
 
+/// The any-hit leaf callback of a pair walk: returns the pair lanes of `lanes` that the leaf's
+/// primitives occlude (the walk stops tracing them).
+using PairOccludedLeafFn = unsigned (*)(void* user, std::uint32_t first, std::uint32_t count,
+                                        unsigned lanes, PacketBoxRays* const (&rays)[2]);
+
+/// Walks the subtree rooted at inner node `child` with pair lane `lane` alone for any hit:
+/// non-zero when the lane is occluded.
+using PairOccludedSingleFn = unsigned (*)(void* user, std::uint32_t child, unsigned lane,
+                                          PacketBoxRays* const (&rays)[2]);
+
+/// The any-hit walk (PacketTraverseFn, anyHit true) of two packets as one, visiting the children
+/// hit in `order`: returns the pair lanes found occluded. The halves must share their direction
+/// signs.
+using PairOccludedFn = unsigned (*)(const Bvh4Node* nodes, std::uint32_t rootChild,
+                                    std::uint32_t rootCount, PacketBoxRays* const (&rays)[2],
+                                    unsigned lanes, AnyHitOrder order, PairOccludedLeafFn leaf,
+                                    PairOccludedSingleFn single, void* user,
+                                    std::uint64_t& nodeVisits);
+
 /// The lanes of a packet (kLanes of them: kPacketLanes, or kPairLanes for a pair) as the
 /// watertight triangle test sees them, for lanes that share the axis permutation (kx, ky, kz)
 /// of WatertightRay.
@@ -225,10 +244,19 @@ struct PacketKernels {
   IdentityRowsFn loadIdentityRows = nullptr;
   /// The test of one box, before the walk (the top level's box for packets from outside it).
   PacketOneBoxFn meetsOneBox = nullptr;
-  /// The closest-hit walk of two packets as one; null where the instruction set has no register
-  /// as wide as a pair (sixteen floats), whose node test would then cost as much as two walks.
+  /// The closest-hit walk of two packets as one: the AVX-512 kernels only, where one register
+  /// holds a pair's sixteen lanes. With AVX2's two registers per slot it measured no faster than
+  /// each packet alone (tg-bench trace, rows tracegraph-bvh-packets against -packets8 in one
+  /// process, one thread, 640x480, from the BART cameras on a Zen 5 with TG_SIMD=avx2: kitchen
+  /// 22.14 against 21.83 ms, robots 22.08 against 22.02), where AVX-512 pairs took 18.98
+  /// against 22.42 and 18.46 against 22.86.
   PairTraverseFn traversePair = nullptr;
-  /// The triangle test of a pair's lanes; null where traversePair is.
+  /// The any-hit walk of two packets as one; null for the portable kernels. Shadow packets from
+  /// the BART cameras (same runs as traversePair) took 4-5% less time with it, AVX2 and
+  /// AVX-512 alike.
+  PairOccludedFn occludedPair = nullptr;
+  /// The triangle test of a pair's lanes; null where no register holds a pair's sixteen floats
+  /// (the pair's leaves then test half by half).
   PairTriangleTestFn testTrianglesPair = nullptr;
 };
 

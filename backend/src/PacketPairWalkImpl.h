@@ -1,5 +1,7 @@
-// The closest-hit walk of two packets as one (PairTraverseFn), written once for a node test of
-// kPairLanes lanes: included by the kernel translation units that have one, after defining it.
+// The walks of two packets as one (PairTraverseFn for closest hits, PairOccludedFn for any hit),
+// written once for a node test of kPairLanes lanes: included by the kernel translation units
+// that have one, after defining it. The two walks are separate functions rather than one with
+// an any-hit flag, as walkPacket has: the closest-hit walk is the primary rays' hot loop.
 // Everything here has internal linkage (see PacketKernel.h for why). Internal header: not
 // installed.
 //
@@ -7,7 +9,8 @@
 // tfar); its test<Rows>(node, rays, lanes, hit, entry) tests the four child boxes of `node`
 // against the pair lanes `lanes` with exactly the arithmetic of the packet node test, writing
 // per slot the lanes that hit it (hit[s]) and each lane's widened entry (entry[s][lane]); its
-// beyond(entry, rays, mask) gives the lanes of `mask` whose entry lies beyond their tfar.
+// beyond(entry, rays, mask) gives the lanes of `mask` whose entry lies beyond their tfar and
+// copyEntry(from, to) copies a slot's kPairLanes entries into a stack entry.
 #pragma once
 
 #include "PacketTraversalImpl.h"
@@ -101,6 +104,99 @@ void walkPair(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t root
   }
 }
 
+/// The any-hit pair walk: walkPacket's any-hit walk (children hit in `order`, farthest first by
+/// the entry of each one's lowest lane, or in slot order; a subtree entered by one lane handed
+/// to it alone; occluded lanes leave the walk) over kPairLanes lanes.
+template <class PairNodeTest, class Rows>
+unsigned walkPairOccluded(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
+                          PacketBoxRays* const (&rays)[2], unsigned lanes, AnyHitOrder order,
+                          PairOccludedLeafFn leaf, PairOccludedSingleFn single, void* user,
+                          std::uint64_t& nodeVisits) {
+  const bool ordered = order == AnyHitOrder::FarthestFirst;
+  struct Entry {
+    std::uint32_t child, count;
+    unsigned lanes;
+    alignas(64) float entry[kPairLanes];
+  };
+  Entry stack[3 * kBvh4MaxDepth + 4];
+  int stackSize = 0;
+  const PairNodeTest nodeTest(rays);
+  unsigned active = lanes, occluded = 0;
+  std::uint32_t child = rootChild, count = rootCount;
+  unsigned current = lanes;
+  for (;;) {
+    unsigned found = 0;
+    if (count == 0 && (current & (current - 1)) == 0) {
+      if (single(user, child, lowestLane(current), rays) != 0) found = current;
+    } else if (count == 0) {
+      ++nodeVisits;
+      const Bvh4Node& node = nodes[child];
+      unsigned hit[4];
+      alignas(64) float entry[4][kPairLanes];
+      nodeTest.template test<Rows>(node, rays, current, hit, entry);
+      int order4[4];
+      float key[4];
+      int n = 0;
+      for (int s = 0; s < 4; ++s) {
+        if (hit[s] == 0) continue;
+        int j = n++;
+        if (ordered) {
+          // Farthest first: negated keys in ascending order.
+          const float k = -entry[s][lowestLane(hit[s])];
+          for (; j > 0 && key[j - 1] > k; --j) {
+            key[j] = key[j - 1];
+            order4[j] = order4[j - 1];
+          }
+          key[j] = k;
+        }
+        order4[j] = s;
+      }
+      if (n > 0) {
+        for (int j = 0; j < n; ++j) {
+          const int s = order4[j];
+          if (node.count[s] == 0) {
+            const char* line = reinterpret_cast<const char*>(nodes + node.child[s]);
+            __builtin_prefetch(line);
+            __builtin_prefetch(line + 64);
+          }
+        }
+        for (int j = n - 1; j > 0; --j) {
+          const int s = order4[j];
+          Entry& e = stack[stackSize++];
+          e.child = node.child[s];
+          e.count = node.count[s];
+          e.lanes = hit[s];
+          PairNodeTest::copyEntry(entry[s], e.entry);
+        }
+        child = node.child[order4[0]];
+        count = node.count[order4[0]];
+        current = hit[order4[0]];
+        continue;
+      }
+    } else {
+      found = leaf(user, child, count, current, rays);
+    }
+    if (found != 0) {
+      occluded |= found;
+      active &= ~found;
+      if (active == 0) return occluded;
+    }
+    // Pop the next subtree some lane still needs.
+    for (;;) {
+      if (stackSize == 0) return occluded;
+      const Entry& e = stack[--stackSize];
+      const unsigned want = e.lanes & active;
+      const unsigned need = want & ~PairNodeTest::beyond(e.entry, rays, want);
+      if (need != 0) {
+        child = e.child;
+        count = e.count;
+        current = need;
+        break;
+      }
+    }
+  }
+}
+
 /// walkPair for each WalkConstants, indexed as OctantWalks indexes walkPacket.
 template <class PairNodeTest, unsigned... Signs>
 struct OctantPairWalks {
@@ -108,6 +204,34 @@ struct OctantPairWalks {
       &walkPair<PairNodeTest, WalkConstants<Signs, false>>...,
       &walkPair<PairNodeTest, WalkConstants<Signs, true>>...};
 };
+
+/// walkPairOccluded for each WalkConstants, indexed as OctantWalks indexes walkPacket.
+template <class PairNodeTest, unsigned... Signs>
+struct OctantPairOccludedWalks {
+  static constexpr PairOccludedFn walks[2 * sizeof...(Signs)] = {
+      &walkPairOccluded<PairNodeTest, WalkConstants<Signs, false>>...,
+      &walkPairOccluded<PairNodeTest, WalkConstants<Signs, true>>...};
+};
+
+/// Whether every lane of both halves has tnear >= 0 (false for NaN).
+inline bool pairTnearNonNegative(PacketBoxRays* const (&rays)[2]) {
+  bool nonNegative = true;
+  for (const PacketBoxRays* half : rays)
+    for (unsigned l = 0; l < kPacketLanes; ++l) nonNegative &= half->tnear[l] >= 0.0f;
+  return nonNegative;
+}
+
+/// walkPairOccluded for the shared octant of both halves and the sign of their tnear
+/// (PairOccludedFn).
+template <class PairNodeTest>
+unsigned occludedPair(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
+                      PacketBoxRays* const (&rays)[2], unsigned lanes, AnyHitOrder order,
+                      PairOccludedLeafFn leaf, PairOccludedSingleFn single, void* user,
+                      std::uint64_t& nodeVisits) {
+  using Walks = OctantPairOccludedWalks<PairNodeTest, 0, 1, 2, 3, 4, 5, 6, 7>;
+  return Walks::walks[rays[0]->signs + (pairTnearNonNegative(rays) ? 8u : 0u)](
+      nodes, rootChild, rootCount, rays, lanes, order, leaf, single, user, nodeVisits);
+}
 
 /// walkPair for the shared octant of both halves and the sign of their tnear (PairTraverseFn).
 template <class PairNodeTest>

@@ -42,6 +42,18 @@ void TopLevelAccel::intersectPacketPair(const Ray* rays, unsigned lanes, Hit* hi
   }
 }
 
+unsigned TopLevelAccel::occludedPacketPair(const Ray* rays, unsigned lanes,
+                                           TraversalContext& ctx) const {
+  constexpr unsigned kPacketMask = (1u << kRayPacketSize) - 1u;
+  unsigned blocked = 0;
+  for (unsigned h = 0; h < 2; ++h) {
+    const unsigned half = (lanes >> (kRayPacketSize * h)) & kPacketMask;
+    if (half != 0)
+      blocked |= occludedPacket(rays + kRayPacketSize * h, half, ctx) << (kRayPacketSize * h);
+  }
+  return blocked;
+}
+
 unsigned TopLevelAccel::occludedPacket(const Ray* rays, unsigned lanes,
                                        TraversalContext& ctx) const {
   unsigned blocked = 0;

@@ -235,6 +235,7 @@ PacketKernels packetKernelsAvx512() {
   PacketKernels kernels = packetKernelsWith<Avx512NodeTest, Lanes8>(
       &loadBoxRaysAvx, &loadTransformedRowsAvx, &loadIdentityRowsAvx, &meetsOneBoxAvx);
   kernels.traversePair = &traversePair<Avx512PairNodeTest>;
+  kernels.occludedPair = &occludedPair<Avx512PairNodeTest>;
   kernels.testTrianglesPair = &testTrianglesPairWith<Lanes16>;
   return kernels;
 }

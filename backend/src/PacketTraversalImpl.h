@@ -210,6 +210,7 @@ PacketKernels packetKernelsWith(BoxRayLoadFn load, TransformedRowsFn loadTransfo
           loadIdentityRows,
           meetsOneBox,
           nullptr,
+          nullptr,
           nullptr};
 }
 

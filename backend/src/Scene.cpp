@@ -524,7 +524,7 @@ void Scene::intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalC
     throw Error("Scene::intersect: " + std::to_string(rays.size()) + " rays but " +
                 std::to_string(hits.size()) + " hits");
   // Where the kernels walk two packets as one, full pairs of packets go together.
-  const bool pairs = detail::activePacketKernels().traversePair != nullptr;
+  const bool pairs = ctx.pairPackets && detail::activePacketKernels().traversePair != nullptr;
   for (std::size_t base = 0; base < rays.size();) {
     const std::size_t left = rays.size() - base;
     const std::size_t n = pairs && left >= 2 * kRayPacketSize
@@ -577,12 +577,22 @@ void Scene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded
   if (rays.size() != occluded.size())
     throw Error("Scene::occluded: " + std::to_string(rays.size()) + " rays but " +
                 std::to_string(occluded.size()) + " results");
-  for (std::size_t base = 0; base < rays.size(); base += kRayPacketSize) {
+  // Where the kernels walk two packets as one, full pairs of packets go together.
+  const bool pairs = ctx.pairPackets && detail::activePacketKernels().occludedPair != nullptr;
+  for (std::size_t base = 0; base < rays.size();) {
+    if (pairs && rays.size() - base >= 2 * kRayPacketSize) {
+      const unsigned blocked = impl_->topLevel->occludedPacketPair(
+          rays.data() + base, (1u << (2 * kRayPacketSize)) - 1u, ctx);
+      for (std::size_t l = 0; l < 2 * kRayPacketSize; ++l) occluded[base + l] = (blocked >> l) & 1u;
+      base += 2 * kRayPacketSize;
+      continue;
+    }
     const std::size_t n = std::min<std::size_t>(kRayPacketSize, rays.size() - base);
     Ray packet[kRayPacketSize];
     std::copy(rays.data() + base, rays.data() + base + n, packet);
     const unsigned blocked = impl_->topLevel->occludedPacket(packet, (1u << n) - 1u, ctx);
     for (std::size_t l = 0; l < n; ++l) occluded[base + l] = (blocked >> l) & 1u;
+    base += n;
   }
 }
 

@@ -538,31 +538,43 @@ struct TopLevelPacketWalk {
     return 0;
   }
 
+  /// The lanes of `lanes` that the instance (or subtree of one) `ref` refers to occludes.
+  unsigned occludedRef(const Ref& ref, unsigned lanes, PacketBoxRays& boxRays) {
+    const InstanceRecord& inst = top->instances_[ref.instance];
+    const auto tfar = [&](unsigned l) { return rays[l].tfar; };
+    unsigned found = 0;
+    if (isBvhAccel(*inst.accel)) {
+      const auto [packet, loaded] = bvhPacket(inst, lanes, boxRays);
+      const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+      found =
+          bvh.occludedLoadedPacket(*packet, *loaded, lanes & loaded->coherent, *ctx, ref.subtree());
+      found |= occludedIncoherent(bvh, ref.subtree(), lanes & ~loaded->coherent, *packet, *loaded);
+    } else {
+      found = inst.accel->occludedPacket(objectPacket(inst, lanes, tfar), lanes, *ctx);
+    }
+    if (found != 0) top->rememberOccluder(ref.instance, *ctx);
+    return found;
+  }
+
+  /// As in intersectIncoherent: lanes outside the packet test walk the subtree alone.
+  unsigned occludedIncoherent(const BvhAccel& bvh, const BvhSubtree& root, unsigned lanes,
+                              ObjectRayPacket& packet, BvhPacketRays& loaded) {
+    unsigned found = 0;
+    for (unsigned m = lanes; m != 0; m &= m - 1) {
+      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+      if (bvh.occludedSubtree(BvhAccel::packetLane(packet, loaded, l), root.child, root.count,
+                              *ctx))
+        found |= 1u << l;
+    }
+    return found;
+  }
+
   static unsigned occludedLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
                                PacketBoxRays& boxRays) {
     auto& w = *static_cast<TopLevelPacketWalk*>(user);
     unsigned blocked = 0;
     for (std::uint32_t k = first; k < first + count && lanes != 0; ++k) {
-      const Ref& ref = w.top->refs_[k];
-      const InstanceRecord& inst = w.top->instances_[ref.instance];
-      const auto tfar = [&](unsigned l) { return w.rays[l].tfar; };
-      unsigned found = 0;
-      if (isBvhAccel(*inst.accel)) {
-        const auto [packet, loaded] = w.bvhPacket(inst, lanes, boxRays);
-        const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
-        const BvhSubtree root = ref.subtree();
-        found = bvh.occludedLoadedPacket(*packet, *loaded, lanes & loaded->coherent, *w.ctx, root);
-        // As in intersectLeaf: lanes outside the packet test walk the subtree alone.
-        for (unsigned m = lanes & ~loaded->coherent; m != 0; m &= m - 1) {
-          const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-          if (bvh.occludedSubtree(BvhAccel::packetLane(*packet, *loaded, l), root.child, root.count,
-                                  *w.ctx))
-            found |= 1u << l;
-        }
-      } else {
-        found = inst.accel->occludedPacket(w.objectPacket(inst, lanes, tfar), lanes, *w.ctx);
-      }
-      if (found != 0) w.top->rememberOccluder(ref.instance, *w.ctx);
+      const unsigned found = w.occludedRef(w.top->refs_[k], lanes, boxRays);
       blocked |= found;
       lanes &= ~found;
     }
@@ -691,6 +703,48 @@ struct TopLevelPairWalk {
     }
   }
 
+  static unsigned occludedLeaf(void* user, std::uint32_t first, std::uint32_t count, unsigned lanes,
+                               PacketBoxRays* const (&rays)[2]) {
+    auto& p = *static_cast<TopLevelPairWalk*>(user);
+    unsigned halfLanes[2] = {lanes & kAllLanes, lanes >> kPacketLanes};
+    const TopLevelBvh* top = p.half[0]->top;
+    unsigned blocked[2] = {0, 0};
+    for (std::uint32_t k = first; k < first + count && (halfLanes[0] | halfLanes[1]) != 0; ++k) {
+      const TopLevelBvh::Ref& ref = top->refs_[k];
+      const InstanceRecord& inst = top->instances_[ref.instance];
+      unsigned found[2] = {0, 0};
+      if (halfLanes[0] == 0 || halfLanes[1] == 0 || !isBvhAccel(*inst.accel)) {
+        for (unsigned h = 0; h < 2; ++h)
+          if (halfLanes[h] != 0) found[h] = p.half[h]->occludedRef(ref, halfLanes[h], *rays[h]);
+      } else {
+        const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+        BvhAccel::LoadedHalf loaded[2];
+        for (unsigned h = 0; h < 2; ++h) {
+          const auto [packet, rows] = p.half[h]->bvhPacket(inst, halfLanes[h], *rays[h]);
+          loaded[h] = {packet, rows, halfLanes[h] & rows->coherent, nullptr};
+        }
+        bvh.occludedLoadedPair(loaded, *p.half[0]->ctx, ref.subtree(), found);
+        for (unsigned h = 0; h < 2; ++h)
+          found[h] |= p.half[h]->occludedIncoherent(bvh, ref.subtree(),
+                                                    halfLanes[h] & ~loaded[h].rays->coherent,
+                                                    *loaded[h].packet, *loaded[h].rays);
+        if ((found[0] | found[1]) != 0) top->rememberOccluder(ref.instance, *p.half[0]->ctx);
+      }
+      for (unsigned h = 0; h < 2; ++h) {
+        blocked[h] |= found[h];
+        halfLanes[h] &= ~found[h];
+      }
+    }
+    return blocked[0] | (blocked[1] << kPacketLanes);
+  }
+
+  static unsigned occludedSingle(void* user, std::uint32_t child, unsigned lane,
+                                 PacketBoxRays* const (&rays)[2]) {
+    auto& p = *static_cast<TopLevelPairWalk*>(user);
+    const unsigned h = lane / kPacketLanes;
+    return TopLevelPacketWalk::occludedSingle(p.half[h], child, lane % kPacketLanes, *rays[h]);
+  }
+
   static void intersectSingle(void* user, std::uint32_t child, unsigned lane,
                               PacketBoxRays* const (&rays)[2]) {
     auto& p = *static_cast<TopLevelPairWalk*>(user);
@@ -711,6 +765,47 @@ void TopLevelBvh::intersectPacket(const Ray* rays, unsigned lanes, Hit* hits,
   TopLevelAccel::intersectPacket(rays, lanes, hits, ctx);
 }
 
+/// The set-up of a pair walk over the top level: each half's walk state, box rays and group.
+struct TopLevelPairLoad {
+  TopLevelPairLoad(const TopLevelBvh* top_, const Ray* rays, Hit* hits, TraversalContext& ctx,
+                   const PacketKernels& kernels_)
+      : top(top_),
+        kernels(kernels_),
+        walk{{top_, rays, hits, &ctx, &kernels_},
+             {top_, rays + kPacketLanes, hits != nullptr ? hits + kPacketLanes : nullptr, &ctx,
+              &kernels_}} {}
+
+  const TopLevelBvh* top;
+  const PacketKernels& kernels;
+  TopLevelPacketWalk walk[2];
+  PacketBoxRays boxRays[2];
+  /// Per half: the lanes that walk as the pair's (those that miss the top level's box, for rays
+  /// from outside it, left out as walkGroups leaves them out), and those left for the packet
+  /// query of the half (other signs than its first traceable lane).
+  unsigned group[2] = {0, 0}, rest[2] = {0, 0};
+
+  /// Loads the halves of `lanes`; true when they walk as a pair, else every group is back in
+  /// `rest`.
+  bool load(unsigned lanes) {
+    for (unsigned h = 0; h < 2; ++h) {
+      rest[h] = (lanes >> (kPacketLanes * h)) & kAllLanes;
+      group[h] = rest[h] != 0 ? walk[h].load(rest[h], boxRays[h]) : 0;
+      rest[h] &= ~group[h];
+      if (group[h] != 0 && !top->bvh_.bounds.contains(walk[h].rays[__builtin_ctz(group[h])].origin))
+        group[h] = kernels.meetsOneBox(top->outerBounds_, boxRays[h], group[h]);
+    }
+    if (group[0] != 0 && group[1] != 0 && boxRays[0].signs == boxRays[1].signs &&
+        laneCount(group[0]) + laneCount(group[1]) >= 2 * kMinPacketLanes)
+      return true;
+    rest[0] |= group[0];
+    rest[1] |= group[1];
+    return false;
+  }
+
+  /// The box rays of both halves, as the pair kernels take them.
+  PacketBoxRays* const boxPointers[2] = {&boxRays[0], &boxRays[1]};
+};
+
 void TopLevelBvh::intersectPacketPair(const Ray* rays, unsigned lanes, Hit* hits,
                                       TraversalContext& ctx) const {
   const PacketKernels& kernels = activePacketKernels();
@@ -718,53 +813,68 @@ void TopLevelBvh::intersectPacketPair(const Ray* rays, unsigned lanes, Hit* hits
     TopLevelAccel::intersectPacketPair(rays, lanes, hits, ctx);
     return;
   }
-  TopLevelPacketWalk walk[2] = {{this, rays, hits, &ctx, &kernels},
-                                {this, rays + kPacketLanes, hits + kPacketLanes, &ctx, &kernels}};
-  PacketBoxRays boxRays[2];
-  // Per half: the lanes left for intersectPacket (other signs than the half's first traceable
-  // lane) and the group that walks, less its lanes that miss the top level's box when the rays
-  // come from outside it (as walkGroups does).
-  unsigned rest[2], group[2];
-  for (unsigned h = 0; h < 2; ++h) {
-    rest[h] = (lanes >> (kPacketLanes * h)) & kAllLanes;
-    group[h] = rest[h] != 0 ? walk[h].load(rest[h], boxRays[h]) : 0;
-    rest[h] &= ~group[h];
-    if (group[h] != 0 && !bvh_.bounds.contains(walk[h].rays[__builtin_ctz(group[h])].origin))
-      group[h] = kernels.meetsOneBox(outerBounds_, boxRays[h], group[h]);
-  }
-  if (group[0] != 0 && group[1] != 0 && boxRays[0].signs == boxRays[1].signs &&
-      laneCount(group[0]) + laneCount(group[1]) >= 2 * kMinPacketLanes) {
-    TopLevelPairWalk pair{{&walk[0], &walk[1]}};
-    PacketBoxRays* const box[2] = {&boxRays[0], &boxRays[1]};
-    kernels.traversePair(bvh_.nodes.data(), 0, 0, box, group[0] | (group[1] << kPacketLanes),
+  TopLevelPairLoad pair(this, rays, hits, ctx, kernels);
+  if (pair.load(lanes)) {
+    TopLevelPairWalk walk{{&pair.walk[0], &pair.walk[1]}};
+    kernels.traversePair(bvh_.nodes.data(), 0, 0, pair.boxPointers,
+                         pair.group[0] | (pair.group[1] << kPacketLanes),
                          &TopLevelPairWalk::intersectLeaf, &TopLevelPairWalk::intersectSingle,
-                         &pair, ctx.nodeVisits);
-  } else {
-    // No pair: each half's group walks as intersectPacket walks it.
-    rest[0] |= group[0];
-    rest[1] |= group[1];
+                         &walk, ctx.nodeVisits);
   }
   for (unsigned h = 0; h < 2; ++h)
-    if (rest[h] != 0)
-      intersectPacket(rays + kPacketLanes * h, rest[h], hits + kPacketLanes * h, ctx);
+    if (pair.rest[h] != 0)
+      intersectPacket(rays + kPacketLanes * h, pair.rest[h], hits + kPacketLanes * h, ctx);
+}
+
+unsigned TopLevelBvh::hintedLanes(const Ray* rays, unsigned lanes, TraversalContext& ctx) const {
+  if (ctx.occluder.build != buildId_) return 0;
+  unsigned hinted = 0;
+  for (unsigned m = lanes; m != 0; m &= m - 1) {
+    const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
+    if (isTraceable(rays[l]) && occludedByHint(rays[l], ctx)) hinted |= 1u << l;
+  }
+  return hinted;
+}
+
+unsigned TopLevelBvh::occludedWalked(const Ray* rays, unsigned lanes, TraversalContext& ctx) const {
+  const unsigned blocked = TopLevelPacketWalk::walkGroups(
+      this, rays, nullptr, ctx, true, &TopLevelPacketWalk::occludedLeaf,
+      &TopLevelPacketWalk::occludedSingle, lanes);
+  return blocked | TopLevelAccel::occludedPacket(rays, lanes, ctx);
+}
+
+unsigned TopLevelBvh::occludedPacketPair(const Ray* rays, unsigned lanes,
+                                         TraversalContext& ctx) const {
+  const PacketKernels& kernels = activePacketKernels();
+  if (lanes == 0 || bvh_.nodes.empty() || kernels.occludedPair == nullptr)
+    return TopLevelAccel::occludedPacketPair(rays, lanes, ctx);
+  // Lanes the hint's triangle blocks are done (see occluded); the rest walk.
+  const unsigned hinted = hintedLanes(rays, lanes, ctx);
+  lanes &= ~hinted;
+  if (lanes == 0) return hinted;
+  TopLevelPairLoad pair(this, rays, nullptr, ctx, kernels);
+  unsigned blocked = hinted;
+  if (pair.load(lanes)) {
+    TopLevelPairWalk walk{{&pair.walk[0], &pair.walk[1]}};
+    // Any hits farthest first, as single rays walk the top level (AnyHitOrder).
+    blocked |= kernels.occludedPair(bvh_.nodes.data(), 0, 0, pair.boxPointers,
+                                    pair.group[0] | (pair.group[1] << kPacketLanes),
+                                    AnyHitOrder::FarthestFirst, &TopLevelPairWalk::occludedLeaf,
+                                    &TopLevelPairWalk::occludedSingle, &walk, ctx.nodeVisits);
+  }
+  for (unsigned h = 0; h < 2; ++h)
+    if (pair.rest[h] != 0)
+      blocked |= occludedWalked(rays + kPacketLanes * h, pair.rest[h], ctx) << (kPacketLanes * h);
+  return blocked;
 }
 
 unsigned TopLevelBvh::occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const {
   if (lanes == 0 || bvh_.nodes.empty()) return 0;
   // Lanes the hint's triangle blocks are done (see occluded); the rest walk.
-  unsigned hinted = 0;
-  if (ctx.occluder.build == buildId_) {
-    for (unsigned m = lanes; m != 0; m &= m - 1) {
-      const unsigned l = static_cast<unsigned>(__builtin_ctz(m));
-      if (isTraceable(rays[l]) && occludedByHint(rays[l], ctx)) hinted |= 1u << l;
-    }
-    lanes &= ~hinted;
-    if (lanes == 0) return hinted;
-  }
-  const unsigned blocked = TopLevelPacketWalk::walkGroups(
-      this, rays, nullptr, ctx, true, &TopLevelPacketWalk::occludedLeaf,
-      &TopLevelPacketWalk::occludedSingle, lanes);
-  return hinted | blocked | TopLevelAccel::occludedPacket(rays, lanes, ctx);
+  const unsigned hinted = hintedLanes(rays, lanes, ctx);
+  lanes &= ~hinted;
+  if (lanes == 0) return hinted;
+  return hinted | occludedWalked(rays, lanes, ctx);
 }
 
 }  // namespace tg::detail

@@ -40,11 +40,21 @@ class TopLevelBvh final : public TopLevelAccel {
   void intersectPacketPair(const Ray* rays, unsigned lanes, Hit* hits,
                            TraversalContext& ctx) const override;
   unsigned occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const override;
+  unsigned occludedPacketPair(const Ray* rays, unsigned lanes,
+                              TraversalContext& ctx) const override;
   const TopLevelStats& stats() const override { return stats_; }
 
  private:
   friend struct TopLevelPacketWalk;
   friend struct TopLevelPairWalk;
+  friend struct TopLevelPairLoad;
+
+  /// The lanes of `lanes` (of a packet) whose rays are traceable and blocked by the triangle
+  /// ctx.occluder names, if it names one of this build.
+  unsigned hintedLanes(const Ray* rays, unsigned lanes, TraversalContext& ctx) const;
+  /// occludedPacket without the hint: the lanes walk in groups of equal direction signs, what
+  /// is left lane by lane.
+  unsigned occludedWalked(const Ray* rays, unsigned lanes, TraversalContext& ctx) const;
 
   /// True when ray (traceable) is blocked by the triangle ctx.occluder names, if it names one
   /// of this build (see TraversalContext::OccluderHint).

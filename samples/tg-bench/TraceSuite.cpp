@@ -92,13 +92,14 @@ constexpr std::size_t kPacketRaysPerTask = 32 * kRayPacketSize;
 /// Closest hits through the packet interface (Scene::intersect over spans): `stream` holds the
 /// rays in packet order, out[order[k]] receives the answer of stream[k].
 void tracePacketsOurs(const Scene& scene, std::span<const Ray> stream,
-                      std::span<const std::uint32_t> order, std::span<RayOutcome> out,
+                      std::span<const std::uint32_t> order, std::span<RayOutcome> out, bool pairs,
                       WalkCounts* counts = nullptr) {
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(
           0, (stream.size() + kPacketRaysPerTask - 1) / kPacketRaysPerTask),
       [&](const tbb::blocked_range<std::size_t>& r) {
         TraversalContext ctx;
+        ctx.pairPackets = pairs;
         Hit hits[kPacketRaysPerTask];
         for (std::size_t task = r.begin(); task != r.end(); ++task) {
           const std::size_t begin = task * kPacketRaysPerTask;
@@ -114,11 +115,12 @@ void tracePacketsOurs(const Scene& scene, std::span<const Ray> stream,
 /// Any hit through the packet interface, rays in their given order (consecutive shadow rays
 /// leave neighbouring pixels, so each group of eight is coherent).
 void occludedPacketsOurs(const Scene& scene, std::span<const Ray> rays, std::span<std::uint8_t> out,
-                         WalkCounts* counts = nullptr) {
+                         bool pairs, WalkCounts* counts = nullptr) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(
                         0, (rays.size() + kPacketRaysPerTask - 1) / kPacketRaysPerTask),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       TraversalContext ctx;
+                      ctx.pairPackets = pairs;
                       for (std::size_t task = r.begin(); task != r.end(); ++task) {
                         const std::size_t begin = task * kPacketRaysPerTask;
                         const std::size_t count = std::min(kPacketRaysPerTask, rays.size() - begin);
@@ -263,8 +265,8 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
   // `ours` holds the default engine's answers, which the peer rows are compared with. Every row
   // writes its own answers, so that the rows can be timed in interleaved rounds and compared
   // afterwards.
-  std::vector<RayOutcome> ours(n), kdOutcomes(n), packetOutcomes(n);
-  std::vector<std::uint8_t> oursOccluded(n), kdOccluded(n), packetOccluded(n), unhinted(n);
+  std::vector<RayOutcome> ours(n), kdOutcomes(n);
+  std::vector<std::uint8_t> oursOccluded(n), kdOccluded(n), unhinted(n);
   std::vector<TimedRow> rows;
   const auto add = [&](const std::string& impl, std::function<void()> trace,
                        std::function<void(BenchRow&)> finish) {
@@ -323,43 +325,53 @@ BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& optio
           judgeAny(row, unhinted);
         });
 
-  // Packets of 8 (the BVH engine; the kd engine would trace every lane alone), rows named
-  // after the SIMD kernel in use. Their answers must equal the single-ray walk's.
-  // Primary packets trace 4x2 pixel blocks: the block order and the rays in it outlive the
-  // rows, which trace them by reference.
+  // Packets of 8 (the BVH engine; the kd engine would trace every lane alone). Their answers
+  // must equal the single-ray walk's. tracegraph-bvh-packets walks each two neighbouring packets
+  // as one where the active kernels can (TraversalContext::pairPackets), tracegraph-bvh-packets8
+  // every packet alone: the same kernels, so the pair's gain is their ratio in this run.
+  // Primary packets trace 4x2 pixel blocks, the two of each 4x4 block in a row: the block order
+  // and the rays in it outlive the rows, which trace them by reference.
   std::vector<std::uint32_t> order;
   std::vector<Ray> stream;
-  if (shadow) {
-    add(
-        "tracegraph-bvh-packets", [&] { occludedPacketsOurs(scene, rays, packetOccluded); },
-        [&](BenchRow& row) {
-          countOccluded(row, packetOccluded);
-          addWalkCounts(
-              row, n, [&](WalkCounts* c) { occludedPacketsOurs(scene, rays, packetOccluded, c); });
-          row.extra.push_back(intField(
-              "single_ray_mismatches",
-              static_cast<std::int64_t>(compareOcclusion(oursOccluded, packetOccluded).hitMiss)));
-          row.extra.push_back(textField("simd", std::string(simdIsaName(activeSimdIsa()))));
-          judgeAny(row, packetOccluded);
-        });
-  } else {
+  if (!shadow) {
     order = blockOrder(options.size);
     stream.resize(order.size());
     for (std::size_t k = 0; k < order.size(); ++k) stream[k] = rays[order[k]];
-    add(
-        "tracegraph-bvh-packets", [&] { tracePacketsOurs(scene, stream, order, packetOutcomes); },
-        [&](BenchRow& row) {
-          countHits(row, packetOutcomes);
-          addWalkCounts(row, n, [&](WalkCounts* c) {
-            tracePacketsOurs(scene, stream, order, packetOutcomes, c);
+  }
+  const auto addPacketRows = [&](const std::string& impl, bool pairs) {
+    if (shadow) {
+      auto out = std::make_shared<std::vector<std::uint8_t>>(n);
+      add(
+          impl, [&, out, pairs] { occludedPacketsOurs(scene, rays, *out, pairs); },
+          [&, out, pairs](BenchRow& row) {
+            countOccluded(row, *out);
+            addWalkCounts(row, n,
+                          [&](WalkCounts* c) { occludedPacketsOurs(scene, rays, *out, pairs, c); });
+            row.extra.push_back(
+                intField("single_ray_mismatches",
+                         static_cast<std::int64_t>(compareOcclusion(oursOccluded, *out).hitMiss)));
+            row.extra.push_back(textField("simd", std::string(simdIsaName(activeSimdIsa()))));
+            judgeAny(row, *out);
           });
-          const MismatchCounts m = compareOutcomes(ours, packetOutcomes);
+      return;
+    }
+    auto out = std::make_shared<std::vector<RayOutcome>>(n);
+    add(
+        impl, [&, out, pairs] { tracePacketsOurs(scene, stream, order, *out, pairs); },
+        [&, out, pairs](BenchRow& row) {
+          countHits(row, *out);
+          addWalkCounts(row, n, [&](WalkCounts* c) {
+            tracePacketsOurs(scene, stream, order, *out, pairs, c);
+          });
+          const MismatchCounts m = compareOutcomes(ours, *out);
           row.extra.push_back(
               intField("single_ray_mismatches", static_cast<std::int64_t>(m.hitMiss + m.prim)));
           row.extra.push_back(textField("simd", std::string(simdIsaName(activeSimdIsa()))));
-          judgeClosest(row, packetOutcomes);
+          judgeClosest(row, *out);
         });
-  }
+  };
+  addPacketRows("tracegraph-bvh-packets", true);
+  addPacketRows("tracegraph-bvh-packets8", false);
 
 #ifdef TG_HAVE_EMBREE
   EmbreeDevice device(common.threads, common.embreeConfig);

@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "IsaGuard.h"
+#include "PacketKernel.h"
 #include "PacketObjectRays.h"
 #include "PacketTransformedRays.h"
 #include "TestGeometry.h"
@@ -269,6 +270,53 @@ BOOST_AUTO_TEST_CASE(packets_of_every_octant_equal_single_rays) {
             cs[s].options.staticAccel != AccelKind::SahKdTree)
           BOOST_TEST(c.packetNodeVisits * 2 < c.singleNodeVisits, label);
       }
+    }
+  }
+}
+
+/// Pairs of neighbouring packets walked as one (TraversalContext::pairPackets, where the active
+/// kernels have pair walks) answer bit for bit as each packet walked alone, closest and any hit,
+/// and visit fewer nodes with camera rays.
+BOOST_AUTO_TEST_CASE(paired_packets_equal_packets_alone) {
+  IsaGuard guard;
+  std::mt19937 rng(1616);
+  const auto scenes = makeScenes(rng, true);
+  const std::vector<Config> cs = configs();
+  const std::vector<Ray> rays = cameraRays(rng, scenes.front()->bounds(), 12);
+  const std::size_t n = rays.size();
+  for (SimdIsa isa : supportedSimdIsas()) {
+    BOOST_REQUIRE(setSimdIsa(isa));
+    const detail::PacketKernels& kernels = detail::activePacketKernels();
+    for (std::size_t s = 0; s < scenes.size(); ++s) {
+      const std::string label = std::string(simdIsaName(isa)) + " " + cs[s].name;
+      std::vector<Hit> paired(n), alone(n);
+      std::vector<std::uint8_t> pairedBlocked(n), aloneBlocked(n);
+      TraversalContext pairedCtx, aloneCtx;
+      aloneCtx.pairPackets = false;
+      scenes[s]->intersect(std::span<const Ray>(rays), std::span<Hit>(paired), pairedCtx);
+      scenes[s]->intersect(std::span<const Ray>(rays), std::span<Hit>(alone), aloneCtx);
+      const std::uint64_t pairedClosest = pairedCtx.nodeVisits, aloneClosest = aloneCtx.nodeVisits;
+      scenes[s]->occluded(std::span<const Ray>(rays), std::span<std::uint8_t>(pairedBlocked),
+                          pairedCtx);
+      scenes[s]->occluded(std::span<const Ray>(rays), std::span<std::uint8_t>(aloneBlocked),
+                          aloneCtx);
+      std::size_t mismatches = 0, hits = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        mismatches +=
+            sameHitBits(paired[i], alone[i]) && pairedBlocked[i] == aloneBlocked[i] ? 0 : 1;
+        hits += paired[i].valid() ? 1 : 0;
+      }
+      BOOST_TEST(mismatches == 0u, label);
+      BOOST_TEST(hits > n / 10, label << ": too few hits to mean anything");
+      const bool bvhObjects = cs[s].options.topLevel == TopLevelKind::Bvh &&
+                              cs[s].options.staticAccel != AccelKind::SahKdTree;
+      if (bvhObjects && kernels.traversePair != nullptr)
+        BOOST_TEST(pairedClosest < aloneClosest, label);
+      if (bvhObjects && kernels.traversePair == nullptr)
+        BOOST_TEST(pairedClosest == aloneClosest, label);
+      if (bvhObjects && kernels.occludedPair != nullptr)
+        BOOST_TEST(pairedCtx.nodeVisits - pairedClosest < aloneCtx.nodeVisits - aloneClosest,
+                   label);
     }
   }
 }

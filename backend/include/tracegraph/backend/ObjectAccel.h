@@ -149,6 +149,11 @@ struct TraversalContext {
   /// Written by object accelerators' any-hit queries: their own index of the triangle that
   /// blocked the ray (ObjectAccel::occludedByPrimitive takes it back).
   std::uint32_t occludingPrimitive = 0;
+  /// Whether the span queries (Scene::intersect and Scene::occluded over spans) walk each two
+  /// full neighbouring packets as one, where the active packet kernels can (sixteen lanes per
+  /// node test). Answers are the same either way; false walks every packet alone, which is what
+  /// benchmarks compare against.
+  bool pairPackets = true;
 };
 
 /// An object-level accelerator over one triangle mesh, in the mesh's own (object) space.

@@ -84,6 +84,9 @@ class TopLevelAccel {
   /// Any-hit counterpart of intersectPacket: returns the lanes that are occluded (never one
   /// whose ray is not traceable).
   virtual unsigned occludedPacket(const Ray* rays, unsigned lanes, TraversalContext& ctx) const;
+  /// Any-hit counterpart of intersectPacketPair: returns the lanes (bit kRayPacketSize * h + l
+  /// for lane l of packet h) that are occluded. The default traces packet by packet.
+  virtual unsigned occludedPacketPair(const Ray* rays, unsigned lanes, TraversalContext& ctx) const;
   /// Statistics of the last build.
   virtual const TopLevelStats& stats() const = 0;
 };
