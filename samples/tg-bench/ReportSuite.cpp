@@ -381,12 +381,14 @@ int runReport(const CommonOptions& common, const ReportOptions& options) {
     Topic t{"Ray throughput",
             "trace",
             "Closest-hit (primary) and any-hit (shadow) rays; Tracegraph traces single rays and "
-            "8-wide packets (tracegraph-bvh-packets, whose answers must equal the single rays': "
-            "single_ray_mismatches), Embree single rays (intersect1) and 8-wide packets "
-            "(intersect8). Our any-hit queries first test the triangle that blocked the previous "
-            "ray of the same context (neighbouring shadow rays share blockers); "
-            "tracegraph-bvh-unhinted traces every shadow ray as if alone, the walk without that "
-            "hint.",
+            "8-wide packets (whose answers must equal the single rays': single_ray_mismatches): "
+            "tracegraph-bvh-packets walks each two neighbouring packets as one where the active "
+            "kernels can (16 lanes per node test with AVX-512; shadow packets with AVX2 too), "
+            "tracegraph-bvh-packets8 every packet alone. Embree traces single rays (intersect1) "
+            "and 8-wide and 16-wide packets (intersect8 over 4x2 pixel blocks, intersect16 over "
+            "4x4). Our any-hit queries first test the triangle that blocked the previous ray of "
+            "the same context (neighbouring shadow rays share blockers); tracegraph-bvh-unhinted "
+            "traces every shadow ray as if alone, the walk without that hint.",
             {},
             {}};
     suiteCommon.reps = plan.traceReps;
