@@ -135,7 +135,10 @@ class Scene {
   /// ctx) gives. Consecutive groups of kRayPacketSize rays are traced as packets (one walk
   /// for all lanes, the box tests of all lanes in one SIMD instruction, see Simd.h); rays whose
   /// direction signs differ from the group's, and groups with too few such rays, fall back to
-  /// single rays. Coherent streams (a camera tile, shadow rays towards one light) gain most.
+  /// single rays. Where the active kernels can, each two consecutive full packets walk as one
+  /// of 2 * kRayPacketSize lanes (ctx.pairPackets, on by default): order the rays so that they
+  /// are neighbours too (the renderer sends 4 x 4 pixel blocks of two 4 x 2 packets). Coherent
+  /// streams (a camera tile, shadow rays towards one light) gain most.
   /// Throws tg::Error when the spans differ in size.
   void intersect(std::span<const Ray> rays, std::span<Hit> hits, TraversalContext& ctx) const;
   /// Any hit for a stream of rays: occluded[i] is 1 when occluded(rays[i]) is true, else 0.
