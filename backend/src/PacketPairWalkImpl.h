@@ -239,10 +239,7 @@ void traversePair(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t 
                   PacketBoxRays* const (&rays)[2], unsigned lanes, PairLeafFn leaf,
                   PairSingleFn single, void* user, std::uint64_t& nodeVisits) {
   using Walks = OctantPairWalks<PairNodeTest, 0, 1, 2, 3, 4, 5, 6, 7>;
-  bool nonNegativeTnear = true;
-  for (const PacketBoxRays* half : rays)
-    for (unsigned l = 0; l < kPacketLanes; ++l) nonNegativeTnear &= half->tnear[l] >= 0.0f;
-  Walks::walks[rays[0]->signs + (nonNegativeTnear ? 8u : 0u)](
+  Walks::walks[rays[0]->signs + (pairTnearNonNegative(rays) ? 8u : 0u)](
       nodes, rootChild, rootCount, rays, lanes, leaf, single, user, nodeVisits);
 }
 
