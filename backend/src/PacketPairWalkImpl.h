@@ -37,6 +37,9 @@ void walkPair(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t root
   };
   Entry stack[3 * kBvh4MaxDepth + 4];
   int stackSize = 0;
+  // Counted in a register: the callbacks are opaque, so a count kept in nodeVisits itself was
+  // stored and loaded again around every one of them.
+  LocalVisitCount visits(nodeVisits);
   const PairNodeTest nodeTest(rays);
   std::uint32_t child = rootChild, count = rootCount;
   unsigned current = lanes;
@@ -44,7 +47,7 @@ void walkPair(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t root
     if (count == 0 && (current & (current - 1)) == 0) {
       single(user, child, lowestLane(current), rays);
     } else if (count == 0) {
-      ++nodeVisits;
+      ++visits.visits;
       const Bvh4Node& node = nodes[child];
       unsigned hit[4];
       alignas(64) float entry[4][kPairLanes];
@@ -120,6 +123,9 @@ unsigned walkPairOccluded(const Bvh4Node* nodes, std::uint32_t rootChild, std::u
   };
   Entry stack[3 * kBvh4MaxDepth + 4];
   int stackSize = 0;
+  // Counted in a register: the callbacks are opaque, so a count kept in nodeVisits itself was
+  // stored and loaded again around every one of them.
+  LocalVisitCount visits(nodeVisits);
   const PairNodeTest nodeTest(rays);
   unsigned active = lanes, occluded = 0;
   std::uint32_t child = rootChild, count = rootCount;
@@ -129,7 +135,7 @@ unsigned walkPairOccluded(const Bvh4Node* nodes, std::uint32_t rootChild, std::u
     if (count == 0 && (current & (current - 1)) == 0) {
       if (single(user, child, lowestLane(current), rays) != 0) found = current;
     } else if (count == 0) {
-      ++nodeVisits;
+      ++visits.visits;
       const Bvh4Node& node = nodes[child];
       unsigned hit[4];
       alignas(64) float entry[4][kPairLanes];

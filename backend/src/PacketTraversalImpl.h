@@ -72,6 +72,9 @@ unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_
   };
   Entry stack[3 * kBvh4MaxDepth + 4];
   int stackSize = 0;
+  // Counted in a register: the callbacks are opaque, so a count kept in nodeVisits itself was
+  // stored and loaded again around every one of them.
+  LocalVisitCount visits(nodeVisits);
   // Per-walk state of the node test: what of the rays stays fixed during the walk (all but tfar).
   const NodeTest nodeTest(rays);
   unsigned active = lanes, occluded = 0;
@@ -87,7 +90,7 @@ unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_
         if (active == 0) return occluded;
       }
     } else if (count == 0) {
-      ++nodeVisits;
+      ++visits.visits;
       const Bvh4Node& node = nodes[child];
       unsigned hit[4];
       alignas(64) float entry[4][kPacketLanes];
