@@ -159,6 +159,15 @@ class Shader {
   /// starts, with the ambient term.
   SurfaceShading prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
                          float cone) const;
+  /// prepare with the hit's material index already found (materialIndexOf).
+  SurfaceShading prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd, float cone,
+                         std::uint32_t materialIndex) const;
+  /// The index into RenderScene::materials of the material at `hit` (RenderScene::material's
+  /// rules); out of range for the default material.
+  std::uint32_t materialIndexOf(const Hit& hit) const;
+  /// Asks the cache for the texels that prepare will read at a hit with material
+  /// `materialIndex` and surface `sd` (Texture::prefetch): a hint, which changes no result.
+  void prefetchTexels(std::uint32_t materialIndex, const Scene::SurfaceData& sd) const;
   /// The mip level of `texture` for the footprint of the ray cone of `sh` (Ray Tracing Gems'
   /// ray cones, sized by the footprint's area on the surface; see Shading.cpp); -inf or NaN
   /// where it is unknown (level 0 is then read).

@@ -532,6 +532,11 @@ void Shader::shadeOpenGlLanes(const Ray* rays, const Hit* hits, std::size_t n,
     lanes.lit = 0;
     lanes.reflective = 0;
     unsigned shaded = 0;
+    // Two passes over the group: the surfaces and materials of all its hits first, each asking
+    // for its texels, then the shading that reads them. Texture lookups miss the cache on most
+    // hits (the BART kitchen's textures hold several megabytes of texels); made one after the
+    // other, their misses did not overlap.
+    std::array<std::uint32_t, W> materialIndex;
     for (std::size_t j = 0; j < count; ++j) {
       const std::size_t k = first + j;
       PixelSample& s = *::new (static_cast<void*>(&out[k])) PixelSample();
@@ -546,11 +551,18 @@ void Shader::shadeOpenGlLanes(const Ray* rays, const Hit* hits, std::size_t n,
       const Scene::SurfaceData& sd = *::new (static_cast<void*>(&sds[j]))
                                          Scene::SurfaceData(scene_.surfaceAt(rays[k], hits[k]));
       s.normal = sd.shadingNormal;
-      if (otherLights)
-        setLane(lanes, j, shading[j].emplace(prepare(rays[k], hits[k], sd, 0.0f)));
-      else
-        setLane(lanes, j, prepare(rays[k], hits[k], sd, 0.0f));
+      materialIndex[j] = materialIndexOf(hits[k]);
+      prefetchTexels(materialIndex[j], sd);
       shaded |= 1u << j;
+    }
+    for (unsigned left = shaded; left != 0; left &= left - 1) {
+      const auto j = static_cast<std::size_t>(std::countr_zero(left));
+      const std::size_t k = first + j;
+      if (otherLights)
+        setLane(lanes, j,
+                shading[j].emplace(prepare(rays[k], hits[k], sds[j], 0.0f, materialIndex[j])));
+      else
+        setLane(lanes, j, prepare(rays[k], hits[k], sds[j], 0.0f, materialIndex[j]));
     }
     if (shaded == 0) continue;
     sums(lanes);
@@ -602,14 +614,27 @@ float Shader::textureLod(const SurfaceShading& sh, const Texture& texture) const
   return 0.5f * roughLog2(width * width * texelsPerArea / (2.0f * cosine));
 }
 
+std::uint32_t Shader::materialIndexOf(const Hit& hit) const {
+  // RenderScene::material, keeping the index for the material's highlight cutoff.
+  return rs_.materialIndexWith(hit.instanceId, hit.objectId, hit.primId,
+                               [&](const MaterialRangeIndex::Ranges& ranges, std::uint32_t primId) {
+                                 return rangeIndex_[hit.instanceId].find(ranges, primId);
+                               });
+}
+
+void Shader::prefetchTexels(std::uint32_t materialIndex, const Scene::SurfaceData& sd) const {
+  if (materialIndex >= rs_.materials.size() || !sd.hasUv) return;
+  const std::uint32_t texture = rs_.materials[materialIndex].texture;
+  if (texture != kInvalidId) rs_.textures[texture]->prefetch(sd.uv);
+}
+
 SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
                                float cone) const {
-  // RenderScene::material, keeping the index for the material's highlight cutoff.
-  const std::uint32_t index =
-      rs_.materialIndexWith(hit.instanceId, hit.objectId, hit.primId,
-                            [&](const MaterialRangeIndex::Ranges& ranges, std::uint32_t primId) {
-                              return rangeIndex_[hit.instanceId].find(ranges, primId);
-                            });
+  return prepare(ray, hit, sd, cone, materialIndexOf(hit));
+}
+
+SurfaceShading Shader::prepare(const Ray& ray, const Hit& hit, const Scene::SurfaceData& sd,
+                               float cone, std::uint32_t index) const {
   const bool listed = index < rs_.materials.size();
   SurfaceShading sh{ray, hit, sd, listed ? rs_.materials[index] : defaultMaterial_};
   sh.highlight = listed ? highlightLimits_[index] : highlightLimits(defaultMaterial_);

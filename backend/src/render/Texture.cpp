@@ -320,6 +320,29 @@ Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
                   [this](std::uint32_t c, std::uint32_t r) { return at(c, r); });
 }
 
+void Texture::prefetch(const Vec2f& uv) const {
+  const std::uint32_t w = image_.width(), h = image_.height();
+  // The fraction of each coordinate, in float: a hint needs the block, not the exact texel.
+  // Coordinates beyond 2^22, NaN and sides of 2^24 texels or more would take conversions
+  // that are not defined for every value; those are left alone.
+  if (w == 0 || w >= (1u << 24) || h >= (1u << 24) || !(std::abs(uv.u) < 0x1p22f) ||
+      !(std::abs(uv.v) < 0x1p22f))
+    return;
+  const auto fraction = [](float c) {
+    const float f = c - static_cast<float>(static_cast<std::int32_t>(c));
+    return f < 0.0f ? f + 1.0f : f;
+  };
+  const auto x =
+      std::min(static_cast<std::uint32_t>(fraction(uv.u) * static_cast<float>(w)), w - 1);
+  const auto y =
+      std::min(static_cast<std::uint32_t>(fraction(uv.v) * static_cast<float>(h)), h - 1);
+  if (!codes_.empty()) {
+    __builtin_prefetch(&codes_[static_cast<std::size_t>(y >> 2) * blocksX_ + (x >> 2)]);
+  } else {
+    __builtin_prefetch(&image_.data()[(static_cast<std::size_t>(y) * w + x) * 3]);
+  }
+}
+
 namespace {
 
 /// Where coordinate c falls in a level side of n texels, in float: the fraction of c is exact,
