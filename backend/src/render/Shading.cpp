@@ -623,6 +623,8 @@ std::uint32_t Shader::materialIndexOf(const Hit& hit) const {
 }
 
 void Shader::prefetchTexels(std::uint32_t materialIndex, const Scene::SurfaceData& sd) const {
+  // Trilinear lookups read the mip levels, which the hint does not cover.
+  if (settings_.textureFilter == TextureFilter::Trilinear) return;
   if (materialIndex >= rs_.materials.size() || !sd.hasUv) return;
   const std::uint32_t texture = rs_.materials[materialIndex].texture;
   if (texture != kInvalidId) rs_.textures[texture]->prefetch(sd.uv);

@@ -52,10 +52,10 @@ class Texture {
   /// the mip chain (clamped to its last level); lod <= 0 and NaN read level 0, so that the
   /// result is then sample(uv, Bilinear) exactly. Nearest and Bilinear ignore `lod`.
   Vec3f sample(const Vec2f& uv, TextureFilter filter, float lod) const;
-  /// Asks the cache for the texels around `uv` in the full-resolution image, those a Bilinear
-  /// or Nearest sample() there reads (the block of the texel that holds `uv`). Only a hint:
-  /// changes no result, and any `uv` (NaN and huge ones included) is valid. Renderers call it
-  /// for a group of hits before sampling any of them, so that their cache misses overlap.
+  /// Asks the cache for the stored 4 x 4 block of full-resolution texels that holds `uv`, in
+  /// which a Bilinear or Nearest sample() there finds all or most of what it reads. Only a
+  /// hint: changes no result, and any `uv` (NaN and huge ones included) is valid. Renderers
+  /// call it for a group of hits before sampling any of them, so that their misses overlap.
   void prefetch(const Vec2f& uv) const;
   /// Levels of the mip chain, the full image included: 1 + floor(log2(max(width, height))).
   std::size_t levelCount() const { return 1 + mips_.size(); }
