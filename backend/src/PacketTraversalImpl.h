@@ -49,26 +49,55 @@ struct WalkConstants {
   static constexpr bool nonNegativeTnear = NonNegativeTnear;
 };
 
-/// The walk: front to back in the order of each subtree's lowest lane (the children hit are
+/// What the walk over the lanes of one packet takes from them (see walkLanes): its rays, its
+/// callbacks (the same for both queries) and how a stack entry keeps the lanes' entries.
+template <class NodeTest>
+struct OnePacketLanes {
+  using Rays = PacketBoxRays&;
+  static constexpr unsigned kLanes = kPacketLanes;
+  /// A stack entry's entries need no more than a float's alignment: the walk copies them lane
+  /// by lane.
+  static constexpr std::size_t kEntryAlign = alignof(float);
+  template <bool kAnyHit>
+  using Leaf = PacketLeafFn;
+  template <bool kAnyHit>
+  using Single = PacketSingleFn;
+  static unsigned beyond(const float* entry, PacketBoxRays& rays, unsigned mask) {
+    return NodeTest::beyond(entry, rays.tfar, mask);
+  }
+  static void copyEntry(const float* from, float* to) {
+    for (unsigned l = 0; l < kPacketLanes; ++l) to[l] = from[l];
+  }
+};
+
+/// The walk, written once for one packet (OnePacketLanes) and for two walked as one
+/// (PairLanes in PacketPairWalkImpl.h), and for both queries: everything of the any-hit query
+/// (kAnyHit) is under `if constexpr`, so the closest-hit walk, the primary rays' hot loop,
+/// compiles to its own code and carries nothing of the other.
+///
+/// Closest hits: front to back in the order of each subtree's lowest lane (the children hit are
 /// visited by that lane's entry distance), with each lane leaving a subtree whose entry lies
 /// beyond its own closest hit, as the single-ray walk does. The order decides only how soon the
-/// closest hits are found, never which they are (the leaves apply the tie rule). Rows is the
-/// WalkConstants of the packet (traversePacket chooses them).
-template <class NodeTest, class Rows>
-unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
-                    PacketBoxRays& rays, unsigned lanes, bool anyHit, AnyHitOrder anyHitOrder,
-                    PacketLeafFn leaf, PacketSingleFn single, void* user,
-                    std::uint64_t& nodeVisits) {
+/// closest hits are found, never which they are (the leaves apply the tie rule). Any hit:
+/// children farthest first by that lane's entry, or in slot order (`order`), and lanes the
+/// leaves occlude leave the walk; returns them (0 for closest hits). Both: a subtree entered by
+/// one lane is handed to it alone (`single`). Rows is the WalkConstants of the rays (traversePacket
+/// and traversePair choose them).
+template <bool kAnyHit, class Lanes, class NodeTest, class Rows>
+unsigned walkLanes(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
+                   typename Lanes::Rays rays, unsigned lanes, AnyHitOrder order,
+                   typename Lanes::template Leaf<kAnyHit> leaf,
+                   typename Lanes::template Single<kAnyHit> single, void* user,
+                   std::uint64_t& nodeVisits) {
   // Children are ordered by one lane's entry: ascending for closest hits, descending (negated
   // keys) for any hits farthest first (by the entry alone: the node tests give no exits; the
   // single-ray walk also weighs the exit, see AnyHitOrder), not at all for any hits in slot
   // order.
-  const bool ordered = !anyHit || anyHitOrder == AnyHitOrder::FarthestFirst;
-  const bool descending = anyHit;
+  const bool ordered = !kAnyHit || order == AnyHitOrder::FarthestFirst;
   struct Entry {
     std::uint32_t child, count;
     unsigned lanes;
-    float entry[kPacketLanes];
+    alignas(Lanes::kEntryAlign) float entry[Lanes::kLanes];
   };
   Entry stack[3 * kBvh4MaxDepth + 4];
   int stackSize = 0;
@@ -77,25 +106,25 @@ unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_
   LocalVisitCount visits(nodeVisits);
   // Per-walk state of the node test: what of the rays stays fixed during the walk (all but tfar).
   const NodeTest nodeTest(rays);
-  unsigned active = lanes, occluded = 0;
+  [[maybe_unused]] unsigned active = lanes, occluded = 0;
   std::uint32_t child = rootChild, count = rootCount;
   unsigned current = lanes;
   for (;;) {
+    [[maybe_unused]] unsigned found = 0;
     if (count == 0 && (current & (current - 1)) == 0) {
       // One lane left in this subtree: it walks on alone.
-      const unsigned lane = lowestLane(current);
-      if (single(user, child, lane, rays) != 0 && anyHit) {
-        occluded |= current;
-        active &= ~current;
-        if (active == 0) return occluded;
+      if constexpr (kAnyHit) {
+        if (single(user, child, lowestLane(current), rays) != 0) found = current;
+      } else {
+        single(user, child, lowestLane(current), rays);
       }
     } else if (count == 0) {
       ++visits.visits;
       const Bvh4Node& node = nodes[child];
       unsigned hit[4];
-      alignas(64) float entry[4][kPacketLanes];
+      alignas(64) float entry[4][Lanes::kLanes];
       nodeTest.template test<Rows>(node, rays, current, hit, entry);
-      int order[4];
+      int slots[4];
       float key[4];
       int n = 0;
       for (int s = 0; s < 4; ++s) {
@@ -109,22 +138,22 @@ unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_
           // shuffles and minima) cost more than the order it bought. Interleaved runs from the
           // BART cameras: robots 3.5% and kitchen 1.3% less time; from outside, robots 1.6% and
           // the kitchen unchanged.
-          const float entryKey = entry[s][lowestLane(hit[s])];
-          const float k = descending ? -entryKey : entryKey;
+          const float e = entry[s][lowestLane(hit[s])];
+          const float k = kAnyHit ? -e : e;
           for (; j > 0 && key[j - 1] > k; --j) {
             key[j] = key[j - 1];
-            order[j] = order[j - 1];
+            slots[j] = slots[j - 1];
           }
           key[j] = k;
         }
-        order[j] = s;
+        slots[j] = s;
       }
       if (n > 0) {
         // Ask for the inner children's nodes now: the walk reaches them after a leaf or two, and
         // the loads of a node's boxes (and the arithmetic waiting on them) were the hottest
         // instructions of the node test in perf profiles.
         for (int j = 0; j < n; ++j) {
-          const int s = order[j];
+          const int s = slots[j];
           if (node.count[s] == 0) {
             const char* line = reinterpret_cast<const char*>(nodes + node.child[s]);
             __builtin_prefetch(line);
@@ -132,21 +161,26 @@ unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_
           }
         }
         for (int j = n - 1; j > 0; --j) {
-          const int s = order[j];
+          const int s = slots[j];
           Entry& e = stack[stackSize++];
           e.child = node.child[s];
           e.count = node.count[s];
           e.lanes = hit[s];
-          for (unsigned l = 0; l < kPacketLanes; ++l) e.entry[l] = entry[s][l];
+          Lanes::copyEntry(entry[s], e.entry);
         }
-        child = node.child[order[0]];
-        count = node.count[order[0]];
-        current = hit[order[0]];
+        child = node.child[slots[0]];
+        count = node.count[slots[0]];
+        current = hit[slots[0]];
         continue;
       }
     } else {
-      const unsigned found = leaf(user, child, count, current, rays);
-      if (anyHit && found != 0) {
+      if constexpr (kAnyHit)
+        found = leaf(user, child, count, current, rays);
+      else
+        leaf(user, child, count, current, rays);
+    }
+    if constexpr (kAnyHit) {
+      if (found != 0) {
         occluded |= found;
         active &= ~found;
         if (active == 0) return occluded;
@@ -156,8 +190,8 @@ unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_
     for (;;) {
       if (stackSize == 0) return occluded;
       const Entry& e = stack[--stackSize];
-      unsigned need = e.lanes & active;
-      need &= ~NodeTest::beyond(e.entry, rays.tfar, need);
+      const unsigned want = kAnyHit ? e.lanes & active : e.lanes;
+      const unsigned need = want & ~Lanes::beyond(e.entry, rays, want);
       if (need != 0) {
         child = e.child;
         count = e.count;
@@ -166,6 +200,19 @@ unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_
       }
     }
   }
+}
+
+/// The walk of one packet for the query `anyHit` (PacketTraverseFn for one WalkConstants).
+template <class NodeTest, class Rows>
+unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
+                    PacketBoxRays& rays, unsigned lanes, bool anyHit, AnyHitOrder anyHitOrder,
+                    PacketLeafFn leaf, PacketSingleFn single, void* user,
+                    std::uint64_t& nodeVisits) {
+  if (anyHit)
+    return walkLanes<true, OnePacketLanes<NodeTest>, NodeTest, Rows>(
+        nodes, rootChild, rootCount, rays, lanes, anyHitOrder, leaf, single, user, nodeVisits);
+  return walkLanes<false, OnePacketLanes<NodeTest>, NodeTest, Rows>(
+      nodes, rootChild, rootCount, rays, lanes, anyHitOrder, leaf, single, user, nodeVisits);
 }
 
 /// walkPacket for each WalkConstants, indexed by the octant's sign bits plus 8 when every lane's
