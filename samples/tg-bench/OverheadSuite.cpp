@@ -83,7 +83,7 @@ BenchReport runOverheadSuite(const CommonOptions& common, const PeerSceneOptions
     });
   }
 #endif
-  measureRows(report, reps, rows);
+  measureRows(report, common, reps, rows);
 
 #ifdef TG_HAVE_EMBREE
   // Ours against Embree in the same layout ("<impl> instanced" against "embree-high instanced").

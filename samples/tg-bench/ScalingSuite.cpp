@@ -81,7 +81,7 @@ BenchReport runScalingSuite(const CommonOptions& common, const PeerSceneOptions&
                       }});
     }
   }
-  measureRows(report, reps, rows);
+  measureRows(report, common, reps, rows);
   std::map<std::string, double> oneThreadMs;
   for (BenchRow& row : report.rows) {
     const bool oneThread = row.caseName.ends_with(", 1 thread");

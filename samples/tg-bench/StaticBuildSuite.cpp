@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <list>
+#include <vector>
 
 #include "BenchTiming.h"
 #include "PrimaryScene.h"
@@ -53,6 +54,7 @@ BenchReport runStaticBuildSuite(const CommonOptions& common, const PeerSceneOpti
   std::vector<AccelVariant> variants;
   for (const AccelVariant& v : accelVariants()) {
     if (v.name != "bvh" && v.name != "sah-kd") continue;
+    if (!common.timesRow("tracegraph-" + v.name)) continue;
     impls.push_back("tracegraph-" + v.name);
     variants.push_back(v);
     progress("static: " + impls.back());
@@ -66,7 +68,10 @@ BenchReport runStaticBuildSuite(const CommonOptions& common, const PeerSceneOpti
   }
 #ifdef TG_HAVE_EMBREE
   EmbreeDevice device(common.threads, common.embreeConfig);
+  std::vector<EmbreeQuality> qualities;
   for (const EmbreeQuality quality : kEmbreeBuildQualities) {
+    if (!common.timesRow(embreeImplName(quality))) continue;
+    qualities.push_back(quality);
     impls.push_back(embreeImplName(quality));
     progress("static: " + impls.back());
     buildTimes.push_back(timeEmbreeBuilds(device, flat, quality, buildReps));
@@ -87,7 +92,7 @@ BenchReport runStaticBuildSuite(const CommonOptions& common, const PeerSceneOpti
   }
 #ifdef TG_HAVE_EMBREE
   std::list<EmbreeBenchScene> peers;
-  for (const EmbreeQuality quality : kEmbreeBuildQualities) {
+  for (const EmbreeQuality quality : qualities) {
     EmbreeBenchScene& peer = peers.emplace_back(device, flat, quality);
     arena.execute([&] { peer.commit(); });
     device.check("building the scene");
@@ -97,6 +102,10 @@ BenchReport runStaticBuildSuite(const CommonOptions& common, const PeerSceneOpti
     });
   }
 #endif
+  if (impls.empty()) {
+    progress("static: --rows names none of this suite's rows");
+    return report;
+  }
   progress("static: " + std::to_string(traceReps) + " interleaved rounds of traces");
   const std::vector<TimingSummary> traceTimes = measureInterleaved(traceReps, traces);
   auto out = outcomes.begin();

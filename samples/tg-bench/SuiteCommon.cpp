@@ -94,18 +94,26 @@ ExtraField textField(const std::string& key, const std::string& value) {
   return {key, value};
 }
 
-void measureRows(BenchReport& report, int reps, const std::vector<TimedRow>& rows) {
+void measureRows(BenchReport& report, const CommonOptions& common, int reps,
+                 const std::vector<TimedRow>& rows) {
   std::string names;
+  std::vector<const TimedRow*> timed;
   std::vector<std::function<double(int)>> samples;
   for (const TimedRow& r : rows) {
+    if (!common.timesRow(r.impl)) continue;
     names += (names.empty() ? "" : ", ") + r.impl;
+    timed.push_back(&r);
     samples.push_back([&r](int) { return r.sample(); });
+  }
+  if (timed.empty()) {
+    progress(report.suite + ": --rows names none of this suite's rows");
+    return;
   }
   progress(report.suite + ": " + std::to_string(reps) + " interleaved rounds of " + names);
   const std::vector<TimingSummary> times = measureInterleaved(reps, samples);
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    BenchRow& row = addRow(report, rows[i].caseName, rows[i].impl, times[i]);
-    if (rows[i].finish) rows[i].finish(row);
+  for (std::size_t i = 0; i < timed.size(); ++i) {
+    BenchRow& row = addRow(report, timed[i]->caseName, timed[i]->impl, times[i]);
+    if (timed[i]->finish) timed[i]->finish(row);
   }
 }
 

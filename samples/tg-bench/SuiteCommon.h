@@ -38,8 +38,10 @@ struct TimedRow {
 /// per round right after an untimed sample of its own), then appends them to `report` in order
 /// and calls their finish.
 /// Rows compared with each other (ours and the peer's, one thread and two) are timed in one
-/// group, so that their ratio is not the machine's drift between them.
-void measureRows(BenchReport& report, int reps, const std::vector<TimedRow>& rows);
+/// group, so that their ratio is not the machine's drift between them. Rows `common` does not
+/// time (CommonOptions::rows) are neither timed nor added.
+void measureRows(BenchReport& report, const CommonOptions& common, int reps,
+                 const std::vector<TimedRow>& rows);
 
 /// Sets the row's Mrays/s from `rays` traced in its median time and records the ray count
 /// (field "rays").

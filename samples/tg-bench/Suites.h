@@ -2,6 +2,7 @@
 /// The benchmark suites tg-bench runs, their options, and what they return.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -20,6 +21,16 @@ struct CommonOptions {
   /// Appended to Embree's device configuration (rtcNewDevice), e.g. "tri_accel=bvh4.triangle4"
   /// to trace with its 4-wide BVH, or "isa=avx2": to see where the peer's speed comes from.
   std::string embreeConfig;
+  /// Implementations (row names such as tracegraph-bvh-unhinted) to time; empty: all. Suites
+  /// that time several rows as one group (trace, static, overhead, scaling) leave out the
+  /// others, and with them the ratio fields that need them: for profiling one path without
+  /// the rest of the group in the profile.
+  std::vector<std::string> rows;
+
+  /// Whether the row of implementation `impl` is to be timed (see rows).
+  bool timesRow(const std::string& impl) const {
+    return rows.empty() || std::find(rows.begin(), rows.end(), impl) != rows.end();
+  }
 };
 
 /// Default repetitions of the build suites (toplevel, rebuild, build), of the trace suite and

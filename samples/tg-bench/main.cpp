@@ -137,6 +137,12 @@ int main(int argc, char** argv) {
     addPeerSceneOptions(*cmd, peerScene, peerSizeText, sceneHelp);
     addCommonOptions(*cmd, common);
   }
+  for (CLI::App* cmd : {traceCmd, staticCmd, overheadCmd, scalingCmd})
+    cmd->add_option("--rows", common.rows,
+                    "Time only these rows (implementations, comma-separated, e.g. "
+                    "tracegraph-bvh-unhinted); the ratio fields that need the others are left "
+                    "out. For profiling one path")
+        ->delimiter(',');
 
   CLI::App* loadCmd =
       app.add_subcommand("load", "Parse, node-graph conversion and first sync of a scene file");
