@@ -10,6 +10,9 @@ packages=(
   doxygen clang clang-format xvfb xauth python3
   # tg-view: OpenGL headers, and Mesa's software rasteriser for its test under Xvfb
   libgl-dev libgl1-mesa-dri
+  # Valgrind: the kernels' dispatch tested as on a CPU without AVX-512, and Callgrind's counts
+  # (scripts/count-instructions.sh)
+  valgrind
 )
 
 missing=()

@@ -15,22 +15,21 @@ namespace {
 
 constexpr std::string_view kIsaNames[] = {"portable", "avx2", "avx512"};
 
-/// True when this CPU (and operating system) runs the kernel of `isa` and the build has it.
-bool cpuRuns(SimdIsa isa) {
+/// True when this CPU (and operating system) executes the instructions of `isa`.
+/// __builtin_cpu_supports also checks that the OS saves the wide registers (XGETBV).
+bool cpuHas(SimdIsa isa) {
   switch (isa) {
     case SimdIsa::Portable:
       return true;
     case SimdIsa::Avx2:
 #if defined(__x86_64__) || defined(__i386__)
-      // __builtin_cpu_supports also checks that the OS saves the wide registers (XGETBV).
-      return detail::packetKernelsAvx2().traverse != nullptr && __builtin_cpu_supports("avx2") &&
-             __builtin_cpu_supports("fma");
+      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 #else
       return false;
 #endif
     case SimdIsa::Avx512:
 #if defined(__x86_64__) || defined(__i386__)
-      return detail::packetKernelsAvx512().traverse != nullptr && __builtin_cpu_supports("avx512f");
+      return __builtin_cpu_supports("avx512f");
 #else
       return false;
 #endif
@@ -38,7 +37,12 @@ bool cpuRuns(SimdIsa isa) {
   return false;
 }
 
+/// The kernels of `isa`, or none (null members) when this CPU lacks its instructions. The CPU
+/// is asked first: the functions that hand out a wider set's kernels are compiled for that set
+/// too, and GCC builds their result with its vector moves (512-bit ones for AVX-512), which an
+/// AVX2-only CPU stops at as illegal instructions.
 detail::PacketKernels kernelsOf(SimdIsa isa) {
+  if (!cpuHas(isa)) return {};
   switch (isa) {
     case SimdIsa::Avx2:
       return detail::packetKernelsAvx2();
@@ -48,6 +52,11 @@ detail::PacketKernels kernelsOf(SimdIsa isa) {
       break;
   }
   return detail::packetKernelsPortable();
+}
+
+/// True when this CPU runs the kernels of `isa` and the build has them.
+bool cpuRuns(SimdIsa isa) {
+  return isa == SimdIsa::Portable || kernelsOf(isa).traverse != nullptr;
 }
 
 /// True on CPUs that execute a 512-bit operation as two 256-bit halves: AMD's family 19h, whose
