@@ -218,13 +218,9 @@ struct Bvh4Ray {
 };
 
 /// Tests the four child boxes of `node` against [ray.tnear, tfar]. Returns a 4-bit mask of the
-/// slots hit and writes each hit slot's (widened) entry distance into `entry` and, WithExit,
-/// its (widened) exit distance, at most tfar widened, into `exitDist`. (A template rather than
-/// a run-time choice: with an exit pointer to test, GCC stopped inlining the triangle tests
-/// into the object BVH's any-hit leaves.)
-template <bool WithExit>
-inline unsigned intersectBvh4NodeWith(const Bvh4Node& node, const Bvh4Ray& ray, float tfar,
-                                      float entry[4], float exitDist[4]) {
+/// slots hit and writes each hit slot's (widened) entry distance into `entry`.
+inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, float tfar,
+                                  float entry[4]) {
 #if TG_BVH4_SSE
   __m128 tmin = ray.tnearV, tmax = _mm_set1_ps(tfar);
   const char* const rows = reinterpret_cast<const char*>(node.bounds);
@@ -259,7 +255,6 @@ inline unsigned intersectBvh4NodeWith(const Bvh4Node& node, const Bvh4Ray& ray, 
     tmax = _mm_add_ps(tmax, _mm_mul_ps(_mm_and_ps(tmax, absMask), slack));
   }
   _mm_storeu_ps(entry, tmin);
-  if constexpr (WithExit) _mm_storeu_ps(exitDist, tmax);
   return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(tmin, tmax)));
 #else
   unsigned mask = 0;
@@ -275,17 +270,10 @@ inline unsigned intersectBvh4NodeWith(const Bvh4Node& node, const Bvh4Ray& ray, 
     tmin -= (tmin < 0.0f ? -tmin : tmin) * kBvhIntervalSlack;
     tmax += (tmax < 0.0f ? -tmax : tmax) * kBvhIntervalSlack;
     entry[s] = tmin;
-    if constexpr (WithExit) exitDist[s] = tmax;
     if (tmin <= tmax) mask |= 1u << s;
   }
   return mask;
 #endif
-}
-
-/// intersectBvh4NodeWith without the exit distances.
-inline unsigned intersectBvh4Node(const Bvh4Node& node, const Bvh4Ray& ray, float tfar,
-                                  float entry[4]) {
-  return intersectBvh4NodeWith<false>(node, ray, tfar, entry, nullptr);
 }
 
 /// A walk's node visits counted in a local and added to `total` when the walk returns. An
@@ -304,39 +292,34 @@ class LocalVisitCount {
   std::uint64_t& total_;
 };
 
-/// The order in which an any-hit walk visits the children a ray hits (the answer is the same
-/// either way; only how soon a blocker is found differs).
-enum class AnyHitOrder {
-  /// Slot order, unsorted: sorting costs branches at every node, and within an object no order
-  /// finds blockers sooner. From the BART files' own cameras, shadow rays to a light above the
-  /// scene walked 7.9 (kitchen) and 10.8 (robots) nodes nearest first and 7.9 and 9.8 in slot
-  /// order, 6% and 20% faster; from outside the scenes the two orders were within 3%.
-  Slots,
-  /// Farthest first: the walk starts at the end of the ray's segment, taking first the child
-  /// whose stretch of the segment has the farthest middle (entry + exit, the exit at most the
-  /// segment's end; slot order on ties). For the top level over whole objects, where a
-  /// shadow ray's segment ends at its light: lamps sit in fittings and shades, and ceilings and
-  /// walls close rooms, which block most of the rays that are blocked, while the space just
-  /// above the shaded point is open. Unhinted shadow rays, one thread, against slot order (time
-  /// per ray as a share of Embree's in the same runs): kitchen from its camera 1.96 -> 1.02,
-  /// from outside 0.98 -> 0.67; robots 1.82 -> 1.02 and 0.80 -> 0.79; museum 1.50 -> 1.12 and
-  /// 1.12 -> 0.99. By the entry alone the robots' camera rays, all blocked by large static
-  /// chunks whose boxes they enter early, walked 9.0 nodes each as in slot order (3.9 by the
-  /// middle). In the objects as well, the museum gained 4-6% and the sphereflake (one object)
-  /// lost 3-5%.
-  FarthestFirst,
-};
+// The order of any-hit walks. Every any-hit walk (single rays and packets, top levels and
+// objects, four- and eight-wide) visits the children a ray hits highest slot first, then down
+// to the lowest, as Embree's any-hit walks do; the answer is the same in any order, only how
+// soon a blocker is found differs. The builders put the lower side of each split in the lower
+// slots, so the walk takes the upper side of a node first, whatever the ray: in the BART
+// scenes, lit from lamps under their ceilings, the blockers of shadow rays (shades, fittings,
+// ceilings) lie on that side. Unhinted shadow rays from the files' cameras, against the lowest
+// slot first in objects and the farthest middle of the ray's stretch first in top levels (the
+// orders before): node visits per ray 3.52 -> 2.01 (kitchen), 2.67 -> 2.00 (robots),
+// 3.67 -> 3.30 (museum), 5.65 -> 2.01 for the kitchen flattened into one object; Callgrind
+// counted 18% (kitchen) and 9% (robots) fewer instructions; time as a share of Embree MEDIUM's
+// rtcOccluded1, alternating processes, 0.61-0.66 -> 0.86-0.89 (kitchen) and 0.80-0.84 -> 0.94
+// (robots). From cameras framing the bounds: 1.57 -> 1.40 (kitchen), 1.93 -> 2.10 (robots),
+// 2.60 -> 1.66 (museum), and 7.38 -> 7.36 for the built-in sphereflake. A scene lit from below
+// would walk longer; no fixed order suits every scene, and the occluder hint
+// (TraversalContext::occluder) finds coherent blockers in any order.
 
 /// Walks a BVH4. Closest-hit walks go front to back: at each node the children hit are visited
 /// nearest entry first, the others pushed with their entry distance and skipped when popped
-/// beyond the closest hit. Any-hit walks visit the children hit in `Order` and return at the
-/// first hit. `leaf(first, count)` tests primitives [first, first + count) and
-/// returns true when it found a hit; closest-hit leaf functions lower `tfar` themselves. An
-/// entry exactly at tfar is still visited, so the tie rule sees every candidate at an equal t.
+/// beyond the closest hit. Any-hit walks visit the children hit highest slot first (see the
+/// order of any-hit walks above) and return at the first hit. `leaf(first, count)` tests primitives
+/// [first, first + count) and returns true when it found a hit; closest-hit leaf functions lower
+/// `tfar` themselves. An entry exactly at tfar is still visited, so the tie rule sees every
+/// candidate at an equal t.
 ///
 /// The walk starts at the subtree (rootChild, rootCount): node rootChild when rootCount is 0,
 /// else the leaf of rootCount primitives at rootChild (traverseBvh4 starts at the root node).
-template <bool AnyHit, AnyHitOrder Order = AnyHitOrder::Slots, class LeafFn>
+template <bool AnyHit, class LeafFn>
 bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::uint32_t rootCount,
                       const Bvh4Ray& ray, const float& tfar, std::uint64_t& nodeVisits,
                       LeafFn&& leaf) {
@@ -357,36 +340,13 @@ bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::
       ++count.visits;
       const Bvh4Node& node = nodeData[current.child];
       float entry[4];
-      if constexpr (AnyHit && Order == AnyHitOrder::FarthestFirst) {
-        float exitDist[4];
-        const unsigned mask = intersectBvh4NodeWith<true>(node, ray, tfar, entry, exitDist);
-        if (mask != 0) {
-          // Farthest middle first (slot order on ties).
-          Entry hits[4];
-          float middle[4];
-          int n = 0;
-          for (int s = 0; s < 4; ++s) {
-            if (!(mask & (1u << s))) continue;
-            const float m = entry[s] + exitDist[s];
-            int k = n++;
-            for (; k > 0 && middle[k - 1] < m; --k) {
-              hits[k] = hits[k - 1];
-              middle[k] = middle[k - 1];
-            }
-            hits[k] = Entry{node.child[s], node.count[s], entry[s]};
-            middle[k] = m;
-          }
-          for (int k = n - 1; k > 0; --k) stack[stackSize++] = hits[k];
-          current = hits[0];
-          continue;
-        }
-      } else if constexpr (AnyHit) {
+      if constexpr (AnyHit) {
         const unsigned mask = intersectBvh4Node(node, ray, tfar, entry);
-        // Any hit ends the walk, so the order only decides how soon one is found (see
-        // AnyHitOrder::Slots).
+        // Highest slot first (the order of any-hit walks, above): the lower slots wait on the
+        // stack, the next highest on top.
         if (mask != 0) {
           int next = -1;
-          for (int s = 3; s >= 0; --s) {
+          for (int s = 0; s < 4; ++s) {
             if (!(mask & (1u << s))) continue;
             if (next >= 0)
               stack[stackSize++] = Entry{node.child[next], node.count[next], entry[next]};
@@ -428,21 +388,20 @@ bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::
 }
 
 /// traverseBvh4From for the ray (origin, direction, tnear).
-template <bool AnyHit, AnyHitOrder Order = AnyHitOrder::Slots, class LeafFn>
+template <bool AnyHit, class LeafFn>
 bool traverseBvh4From(const Bvh4NodeArray& nodes, std::uint32_t rootChild, std::uint32_t rootCount,
                       const Vec3f& origin, const Vec3f& direction, float tnear, const float& tfar,
                       std::uint64_t& nodeVisits, LeafFn&& leaf) {
-  return traverseBvh4From<AnyHit, Order>(nodes, rootChild, rootCount,
-                                         Bvh4Ray(origin, direction, tnear), tfar, nodeVisits,
-                                         static_cast<LeafFn&&>(leaf));
+  return traverseBvh4From<AnyHit>(nodes, rootChild, rootCount, Bvh4Ray(origin, direction, tnear),
+                                  tfar, nodeVisits, static_cast<LeafFn&&>(leaf));
 }
 
 /// traverseBvh4From at the root node.
-template <bool AnyHit, AnyHitOrder Order = AnyHitOrder::Slots, class LeafFn>
+template <bool AnyHit, class LeafFn>
 bool traverseBvh4(const Bvh4NodeArray& nodes, const Vec3f& origin, const Vec3f& direction,
                   float tnear, const float& tfar, std::uint64_t& nodeVisits, LeafFn&& leaf) {
-  return traverseBvh4From<AnyHit, Order>(nodes, 0, 0, origin, direction, tnear, tfar, nodeVisits,
-                                         static_cast<LeafFn&&>(leaf));
+  return traverseBvh4From<AnyHit>(nodes, 0, 0, origin, direction, tnear, tfar, nodeVisits,
+                                  static_cast<LeafFn&&>(leaf));
 }
 
 }  // namespace tg::detail

@@ -21,9 +21,8 @@ namespace tg::detail {
 
 #if TG_BVH8_WALK
 /// A subtree waiting on an eight-wide walk's stack: node `child` of the eight-wide array when
-/// `count` is 0, else the leaf of `count` primitives at `child`; `key` orders the children of a
-/// node (the entry distance for closest hits, minus the middle of the ray's stretch in the box
-/// for any hits farthest first). Smaller keys are visited first.
+/// `count` is 0, else the leaf of `count` primitives at `child`; `key` is the entry distance
+/// (closest hits visit smaller keys first and skip those beyond the closest hit).
 struct Bvh8WalkEntry {
   std::uint32_t child, count;
   float key;
@@ -34,15 +33,14 @@ struct Bvh8WalkEntry {
 inline constexpr int kBvh8StackSize = 7 * kBvh4MaxDepth + 8;
 
 /// The loop the eight-wide walks share, from `current` with `stackSize` entries on `stack`:
-/// eight boxes per test with the 4-box test's arithmetic box by box (see intersectBvh4NodeWith
-/// for the NaN and widening rules). Closest hits (AnyHit false) visit the children hit nearest
-/// entry first; any hits farthest middle first (Order FarthestFirst) or in slot order (Slots).
-template <bool AnyHit, AnyHitOrder Order, class LeafFn>
+/// eight boxes per test with the 4-box test's arithmetic box by box (see intersectBvh4Node for
+/// the NaN and widening rules). Closest hits (AnyHit false) visit the children hit nearest
+/// entry first; any hits highest slot first (the order of any-hit walks, Bvh4.h).
+template <bool AnyHit, class LeafFn>
 [[gnu::always_inline, gnu::target("avx2")]] inline bool walkBvh8(
     const Bvh8Node* nodeData, Bvh8WalkEntry* stack, int stackSize, Bvh8WalkEntry current,
     const Bvh4Ray& ray, const float& tfar, LocalVisitCount& count, LeafFn& leaf) {
   using Entry = Bvh8WalkEntry;
-  constexpr bool kSlotOrder = AnyHit && Order == AnyHitOrder::Slots;
   const __m256 origin[3] = {_mm256_set_m128(ray.origin[0], ray.origin[0]),
                             _mm256_set_m128(ray.origin[1], ray.origin[1]),
                             _mm256_set_m128(ray.origin[2], ray.origin[2])};
@@ -76,19 +74,14 @@ template <bool AnyHit, AnyHitOrder Order, class LeafFn>
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ)));
       if (mask != 0) {
         alignas(32) float key[8];
-        if constexpr (AnyHit && !kSlotOrder)
-          _mm256_store_ps(key, _mm256_xor_ps(_mm256_add_ps(tmin, tmax), _mm256_set1_ps(-0.0f)));
-        else
-          _mm256_store_ps(key, tmin);
+        _mm256_store_ps(key, tmin);
         const auto slot = [&](unsigned s) { return Entry{node.child[s], node.count[s], key[s]}; };
-        if constexpr (kSlotOrder) {
-          // The lowest slot now, the others on the stack highest first.
-          current = slot(static_cast<unsigned>(__builtin_ctz(mask)));
-          for (mask &= mask - 1; mask != 0;) {
-            const unsigned s = 31u - static_cast<unsigned>(__builtin_clz(mask));
-            stack[stackSize++] = slot(s);
-            mask &= ~(1u << s);
-          }
+        if constexpr (AnyHit) {
+          // The highest slot now, the others on the stack lowest first (the next highest on top).
+          const unsigned highest = 31u - static_cast<unsigned>(__builtin_clz(mask));
+          current = slot(highest);
+          for (mask &= ~(1u << highest); mask != 0; mask &= mask - 1)
+            stack[stackSize++] = slot(static_cast<unsigned>(__builtin_ctz(mask)));
           continue;
         }
         // One or two children hit (most nodes): no sort. Smaller key first, slot order on ties.
@@ -149,7 +142,7 @@ template <bool AnyHit, AnyHitOrder Order, class LeafFn>
 /// of the boxes above each leaf that the BVH4 walk tests, so it reaches every leaf that walk
 /// reaches: the closest-hit walk (AnyHit false, nearest entry first) gives the same closest hit
 /// whatever the order, since the leaves apply the tie rule, and the any-hit walk (AnyHit true,
-/// farthest middle first as AnyHitOrder::FarthestFirst) the same answer.
+/// highest slot first) the same answer.
 ///
 /// Compiled for AVX2 (the function attribute; the rest of the library stays at the baseline):
 /// call it only when the CPU runs AVX2. The root's own test stays four-wide: its twin would
@@ -165,25 +158,26 @@ template <bool AnyHit, class LeafFn>
   Entry stack[kBvh8StackSize];
   int stackSize = 0;
   ++count.visits;
-  float entry[4], exitDist[4];
-  const unsigned mask = intersectBvh4NodeWith<AnyHit>(root, ray, tfar, entry, exitDist);
+  float entry[4];
+  const unsigned mask = intersectBvh4Node(root, ray, tfar, entry);
   if (mask == 0) return false;
   Entry hits[4];
   int n = 0;
   for (int s = 0; s < 4; ++s) {
     if (!(mask & (1u << s))) continue;
-    const Entry e{root.child[s], root.count[s], AnyHit ? -(entry[s] + exitDist[s]) : entry[s]};
+    // Any hits order the root's children highest slot first too, by a key that falls with the
+    // slot.
+    const Entry e{root.child[s], root.count[s], AnyHit ? -static_cast<float>(s) : entry[s]};
     int k = n++;
     for (; k > 0 && hits[k - 1].key > e.key; --k) hits[k] = hits[k - 1];
     hits[k] = e;
   }
   for (int k = n - 1; k > 0; --k) stack[stackSize++] = hits[k];
-  return walkBvh8<AnyHit, AnyHitOrder::FarthestFirst>(twins.data(), stack, stackSize, hits[0], ray,
-                                                      tfar, count, leaf);
+  return walkBvh8<AnyHit>(twins.data(), stack, stackSize, hits[0], ray, tfar, count, leaf);
 }
 
 /// traverseBvh4From's walk over a whole eight-wide BVH (buildBvh8) from its root: closest hits
-/// nearest entry first, any hits in slot order (see AnyHitOrder::Slots). Compiled for AVX2 (call
+/// nearest entry first, any hits highest slot first. Compiled for AVX2 (call
 /// it only when the CPU runs AVX2).
 template <bool AnyHit, class LeafFn>
 [[gnu::target("avx2")]] bool traverseWideBvh8(const Bvh8NodeArray& wide, const Bvh4Ray& ray,
@@ -192,8 +186,8 @@ template <bool AnyHit, class LeafFn>
   if (wide.empty()) return false;
   LocalVisitCount count(nodeVisits);
   Bvh8WalkEntry stack[kBvh8StackSize];
-  return walkBvh8<AnyHit, AnyHitOrder::Slots>(wide.data(), stack, 0, Bvh8WalkEntry{0, 0, ray.tnear},
-                                              ray, tfar, count, leaf);
+  return walkBvh8<AnyHit>(wide.data(), stack, 0, Bvh8WalkEntry{0, 0, ray.tnear}, ray, tfar, count,
+                          leaf);
 }
 #endif
 

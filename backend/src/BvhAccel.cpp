@@ -748,8 +748,7 @@ unsigned BvhAccel::intersectLoadedPacket(ObjectRayPacket& packet, BvhPacketRays&
     return changed;
   }
   c.kernels->traverse(nodes_.data(), root.child, root.count, rays.box, lanes, false,
-                      AnyHitOrder::Slots, &intersectPacketLeaf, &intersectSingleLane, &c,
-                      ctx.nodeVisits);
+                      &intersectPacketLeaf, &intersectSingleLane, &c, ctx.nodeVisits);
   return c.changed;
 }
 
@@ -939,11 +938,10 @@ void BvhAccel::occludedLoadedPair(const LoadedHalf (&halves)[2], TraversalContex
   for (unsigned h = 0; h < 2; ++h)
     c.half[h] = OccludedLeafContext{this, &ctx, halves[h].rays, kernels, halves[h].packet};
   PacketBoxRays* const box[2] = {&halves[0].rays->box, &halves[1].rays->box};
-  // Slot order within objects, as single rays and packets walk them (AnyHitOrder::Slots).
   const unsigned found =
       kernels->occludedPair(nodes_.data(), root.child, root.count, box,
-                            halves[0].lanes | (halves[1].lanes << kPacketLanes), AnyHitOrder::Slots,
-                            &occludedPairLeaf, &occludedPairSingleLane, &c, ctx.nodeVisits);
+                            halves[0].lanes | (halves[1].lanes << kPacketLanes), &occludedPairLeaf,
+                            &occludedPairSingleLane, &c, ctx.nodeVisits);
   blocked[0] = found & kAllLanes;
   blocked[1] = found >> kPacketLanes;
 }
@@ -961,10 +959,8 @@ unsigned BvhAccel::occludedLoadedPacket(ObjectRayPacket& packet, BvhPacketRays& 
     }
     return blocked;
   }
-  // Slot order within objects, as single rays walk them (AnyHitOrder::Slots).
   return c.kernels->traverse(nodes_.data(), root.child, root.count, rays.box, lanes, true,
-                             AnyHitOrder::Slots, &occludedPacketLeaf, &occludedSingleLane, &c,
-                             ctx.nodeVisits);
+                             &occludedPacketLeaf, &occludedSingleLane, &c, ctx.nodeVisits);
 }
 
 unsigned BvhAccel::intersectPacket(ObjectRayPacket& packet, unsigned lanes, Hit* hits,

@@ -55,13 +55,13 @@ using PacketSingleFn = unsigned (*)(void* user, std::uint32_t child, unsigned la
 /// rootChild when rootCount is 0, else the leaf of rootCount primitives at rootChild; (0, 0) is
 /// the whole tree, whose root is nodes[0]. Closest hit (anyHit false): returns 0; the answer is
 /// what the leaf callbacks recorded. Any hit: returns the lanes found occluded, visiting the
-/// children hit in `anyHitOrder` (by the entry of the lowest lane entering each). Every lane visits
+/// children hit highest slot first (the order of any-hit walks, Bvh4.h). Every lane visits
 /// exactly the leaves whose widened box interval meets [tnear, tfar] at the time, with the
 /// single-ray box test's arithmetic, so a lane finds what the single-ray walk finds.
 using PacketTraverseFn = unsigned (*)(const Bvh4Node* nodes, std::uint32_t rootChild,
                                       std::uint32_t rootCount, PacketBoxRays& rays, unsigned lanes,
-                                      bool anyHit, AnyHitOrder anyHitOrder, PacketLeafFn leaf,
-                                      PacketSingleFn single, void* user, std::uint64_t& nodeVisits);
+                                      bool anyHit, PacketLeafFn leaf, PacketSingleFn single,
+                                      void* user, std::uint64_t& nodeVisits);
 
 /// Lanes of a pair of packets walked as one (PairTraverseFn): lane 8h + l is lane l of half h.
 inline constexpr unsigned kPairLanes = 2 * kPacketLanes;
@@ -97,12 +97,11 @@ using PairOccludedLeafFn = unsigned (*)(void* user, std::uint32_t first, std::ui
 using PairOccludedSingleFn = unsigned (*)(void* user, std::uint32_t child, unsigned lane,
                                           PacketBoxRays* const (&rays)[2]);
 
-/// The any-hit walk (PacketTraverseFn, anyHit true) of two packets as one, visiting the children
-/// hit in `order`: returns the pair lanes found occluded. The halves must share their direction
-/// signs.
+/// The any-hit walk (PacketTraverseFn, anyHit true) of two packets as one: returns the pair
+/// lanes found occluded. The halves must share their direction signs.
 using PairOccludedFn = unsigned (*)(const Bvh4Node* nodes, std::uint32_t rootChild,
                                     std::uint32_t rootCount, PacketBoxRays* const (&rays)[2],
-                                    unsigned lanes, AnyHitOrder order, PairOccludedLeafFn leaf,
+                                    unsigned lanes, PairOccludedLeafFn leaf,
                                     PairOccludedSingleFn single, void* user,
                                     std::uint64_t& nodeVisits);
 

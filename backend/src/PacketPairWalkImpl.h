@@ -60,17 +60,16 @@ void walkPair(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t root
               PacketBoxRays* const (&rays)[2], unsigned lanes, PairLeafFn leaf, PairSingleFn single,
               void* user, std::uint64_t& nodeVisits) {
   walkLanes<false, PairLanes<PairNodeTest>, PairNodeTest, Rows>(
-      nodes, rootChild, rootCount, rays, lanes, AnyHitOrder::Slots, leaf, single, user, nodeVisits);
+      nodes, rootChild, rootCount, rays, lanes, leaf, single, user, nodeVisits);
 }
 
 /// The any-hit pair walk (PairOccludedFn for one WalkConstants).
 template <class PairNodeTest, class Rows>
 unsigned walkPairOccluded(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
-                          PacketBoxRays* const (&rays)[2], unsigned lanes, AnyHitOrder order,
-                          PairOccludedLeafFn leaf, PairOccludedSingleFn single, void* user,
-                          std::uint64_t& nodeVisits) {
+                          PacketBoxRays* const (&rays)[2], unsigned lanes, PairOccludedLeafFn leaf,
+                          PairOccludedSingleFn single, void* user, std::uint64_t& nodeVisits) {
   return walkLanes<true, PairLanes<PairNodeTest>, PairNodeTest, Rows>(
-      nodes, rootChild, rootCount, rays, lanes, order, leaf, single, user, nodeVisits);
+      nodes, rootChild, rootCount, rays, lanes, leaf, single, user, nodeVisits);
 }
 
 /// walkPair for each WalkConstants, indexed as OctantWalks indexes walkPacket.
@@ -101,12 +100,11 @@ inline bool pairTnearNonNegative(PacketBoxRays* const (&rays)[2]) {
 /// (PairOccludedFn).
 template <class PairNodeTest>
 unsigned occludedPair(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
-                      PacketBoxRays* const (&rays)[2], unsigned lanes, AnyHitOrder order,
-                      PairOccludedLeafFn leaf, PairOccludedSingleFn single, void* user,
-                      std::uint64_t& nodeVisits) {
+                      PacketBoxRays* const (&rays)[2], unsigned lanes, PairOccludedLeafFn leaf,
+                      PairOccludedSingleFn single, void* user, std::uint64_t& nodeVisits) {
   using Walks = OctantPairOccludedWalks<PairNodeTest, 0, 1, 2, 3, 4, 5, 6, 7>;
   return Walks::walks[rays[0]->signs + (pairTnearNonNegative(rays) ? 8u : 0u)](
-      nodes, rootChild, rootCount, rays, lanes, order, leaf, single, user, nodeVisits);
+      nodes, rootChild, rootCount, rays, lanes, leaf, single, user, nodeVisits);
 }
 
 /// walkPair for the shared octant of both halves and the sign of their tnear (PairTraverseFn).

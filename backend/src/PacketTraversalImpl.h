@@ -79,21 +79,16 @@ struct OnePacketLanes {
 /// visited by that lane's entry distance), with each lane leaving a subtree whose entry lies
 /// beyond its own closest hit, as the single-ray walk does. The order decides only how soon the
 /// closest hits are found, never which they are (the leaves apply the tie rule). Any hit:
-/// children farthest first by that lane's entry, or in slot order (`order`), and lanes the
-/// leaves occlude leave the walk; returns them (0 for closest hits). Both: a subtree entered by
+/// children highest slot first (the order of any-hit walks, Bvh4.h), and lanes the leaves
+/// occlude leave the walk; returns them (0 for closest hits). Both: a subtree entered by
 /// one lane is handed to it alone (`single`). Rows is the WalkConstants of the rays (traversePacket
 /// and traversePair choose them).
 template <bool kAnyHit, class Lanes, class NodeTest, class Rows>
 unsigned walkLanes(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
-                   typename Lanes::Rays rays, unsigned lanes, AnyHitOrder order,
+                   typename Lanes::Rays rays, unsigned lanes,
                    typename Lanes::template Leaf<kAnyHit> leaf,
                    typename Lanes::template Single<kAnyHit> single, void* user,
                    std::uint64_t& nodeVisits) {
-  // Children are ordered by one lane's entry: ascending for closest hits, descending (negated
-  // keys) for any hits farthest first (by the entry alone: the node tests give no exits; the
-  // single-ray walk also weighs the exit, see AnyHitOrder), not at all for any hits in slot
-  // order.
-  const bool ordered = !kAnyHit || order == AnyHitOrder::FarthestFirst;
   struct Entry {
     std::uint32_t child, count;
     unsigned lanes;
@@ -127,19 +122,20 @@ unsigned walkLanes(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t
       int slots[4];
       float key[4];
       int n = 0;
-      for (int s = 0; s < 4; ++s) {
+      for (int i = 0; i < 4; ++i) {
+        // Any hits take the children highest slot first (the order of any-hit walks, Bvh4.h),
+        // with no key.
+        const int s = kAnyHit ? 3 - i : i;
         if (hit[s] == 0) continue;
         int j = n++;
-        if (ordered) {
-          // Any-hit packets in slot order need no key (nearest first measured no faster for
-          // packets of shadow rays; AnyHitOrder says where farthest first pays). The key is one
-          // lane's entry, not the smallest over the lanes: the lanes of a coherent packet enter
+        if constexpr (!kAnyHit) {
+          // Closest hits by one lane's entry, not the smallest over the lanes: the lanes of a
+          // coherent packet enter
           // a box close together, and the horizontal minimum per child hit (a chain of three
           // shuffles and minima) cost more than the order it bought. Interleaved runs from the
           // BART cameras: robots 3.5% and kitchen 1.3% less time; from outside, robots 1.6% and
           // the kitchen unchanged.
-          const float e = entry[s][lowestLane(hit[s])];
-          const float k = kAnyHit ? -e : e;
+          const float k = entry[s][lowestLane(hit[s])];
           for (; j > 0 && key[j - 1] > k; --j) {
             key[j] = key[j - 1];
             slots[j] = slots[j - 1];
@@ -205,14 +201,13 @@ unsigned walkLanes(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t
 /// The walk of one packet for the query `anyHit` (PacketTraverseFn for one WalkConstants).
 template <class NodeTest, class Rows>
 unsigned walkPacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
-                    PacketBoxRays& rays, unsigned lanes, bool anyHit, AnyHitOrder anyHitOrder,
-                    PacketLeafFn leaf, PacketSingleFn single, void* user,
-                    std::uint64_t& nodeVisits) {
+                    PacketBoxRays& rays, unsigned lanes, bool anyHit, PacketLeafFn leaf,
+                    PacketSingleFn single, void* user, std::uint64_t& nodeVisits) {
   if (anyHit)
     return walkLanes<true, OnePacketLanes<NodeTest>, NodeTest, Rows>(
-        nodes, rootChild, rootCount, rays, lanes, anyHitOrder, leaf, single, user, nodeVisits);
+        nodes, rootChild, rootCount, rays, lanes, leaf, single, user, nodeVisits);
   return walkLanes<false, OnePacketLanes<NodeTest>, NodeTest, Rows>(
-      nodes, rootChild, rootCount, rays, lanes, anyHitOrder, leaf, single, user, nodeVisits);
+      nodes, rootChild, rootCount, rays, lanes, leaf, single, user, nodeVisits);
 }
 
 /// walkPacket for each WalkConstants, indexed by the octant's sign bits plus 8 when every lane's
@@ -235,17 +230,15 @@ struct OctantWalks {
 /// Callgrind's model (a test and branch per slot, and the instructions 0.1% and 0.7% fewer).
 template <class NodeTest>
 unsigned traversePacket(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t rootCount,
-                        PacketBoxRays& rays, unsigned lanes, bool anyHit, AnyHitOrder anyHitOrder,
-                        PacketLeafFn leaf, PacketSingleFn single, void* user,
-                        std::uint64_t& nodeVisits) {
+                        PacketBoxRays& rays, unsigned lanes, bool anyHit, PacketLeafFn leaf,
+                        PacketSingleFn single, void* user, std::uint64_t& nodeVisits) {
   using Walks = OctantWalks<NodeTest, 0, 1, 2, 3, 4, 5, 6, 7>;
   // tnear >= 0 in every lane, filled ones included (false for NaN, as the kernels' ordered
   // comparisons give).
   bool nonNegativeTnear = true;
   for (unsigned l = 0; l < kPacketLanes; ++l) nonNegativeTnear &= rays.tnear[l] >= 0.0f;
-  return Walks::walks[rays.signs + (nonNegativeTnear ? 8u : 0u)](nodes, rootChild, rootCount, rays,
-                                                                 lanes, anyHit, anyHitOrder, leaf,
-                                                                 single, user, nodeVisits);
+  return Walks::walks[rays.signs + (nonNegativeTnear ? 8u : 0u)](
+      nodes, rootChild, rootCount, rays, lanes, anyHit, leaf, single, user, nodeVisits);
 }
 
 /// The kernels of one instruction set: the packet loads, the walk with its node test, the

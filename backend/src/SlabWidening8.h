@@ -12,7 +12,7 @@
 namespace tg::detail {
 namespace {
 
-/// Widens [tmin, tmax] by kBvhIntervalSlack of each end's magnitude, as intersectBvh4NodeWith
+/// Widens [tmin, tmax] by kBvhIntervalSlack of each end's magnitude, as intersectBvh4Node
 /// does four boxes at a time (see there): one product per end when every lane's tnear is >= 0.
 [[gnu::always_inline, gnu::target("avx2")]] inline void widenSlabInterval8(__m256& tmin,
                                                                            __m256& tmax,

@@ -44,11 +44,14 @@ constexpr std::size_t kTwinMaxEntries = 4096;
 constexpr std::size_t kTwinMinDepth = 3;
 /// Any-hit single rays walk the twins only in deeper top levels. A blocked ray's walk goes
 /// straight down to its blocker, so the twins save it about half the levels, at a price per
-/// ray. Unhinted shadow rays, one thread, time as a share of Embree MEDIUM's rtcOccluded1: the
-/// BART robots (depth 6) from its camera 1.17-1.19 -> 1.04-1.07 (3.9 -> 2.7 node visits per
-/// ray), from outside 0.88-0.90 -> 0.94-0.96; the kitchen (depth 4) from its camera 1.12-1.16
-/// -> 1.20-1.21 and from outside 0.73-0.76 -> 0.82-0.85, though with 13% and 3% fewer visits
-/// and the same instance entries and triangle tests.
+/// ray. Unhinted shadow rays from the BART cameras, one thread, time as a share of Embree
+/// MEDIUM's rtcOccluded1, first with the top levels walked farthest middle first: the robots
+/// (depth 6) 1.17-1.19 -> 1.04-1.07 through the twins (3.9 -> 2.7 node visits per ray), the
+/// kitchen (depth 4) 1.12-1.16 -> 1.20-1.21. Then, two threads, in the any-hit order of Bvh4.h
+/// (highest slot first): the robots' walk through the twins 2.67 -> 2.00 visits per ray, while
+/// through twins the kitchen's would rise from 2.01 to 3.84 and its time from 1.16 to 1.99 of
+/// Embree's (an opened slot's children do not all keep its place among a twin's slots, so the
+/// upper side of a split is not always taken first).
 constexpr std::size_t kAnyHitTwinMinDepth = 5;
 
 /// Success rate (TraversalContext::OccluderHint::successRate, in 1/65536) below which the
@@ -345,9 +348,9 @@ bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
     return true;
   }
   InstanceEntry enter(ray);
-  // Farthest entry first: shadow rays meet their blockers mostly around their light. The walk
-  // is given its box ray directly: called through traverseBvh4, GCC kept it out of line here,
-  // and these rays from outside the kitchen took 10% longer.
+  // Highest slot first, as every any-hit walk (Bvh4.h). The walk is given its box ray directly:
+  // called through traverseBvh4, GCC kept it out of line here, and these rays from outside the
+  // kitchen took 10% longer.
   const Bvh4Ray box(ray.origin, ray.direction, ray.tnear);
   const auto leaf = [&](std::uint32_t first, std::uint32_t count) {
     for (std::uint32_t k = first; k < first + count; ++k)
@@ -358,8 +361,7 @@ bool TopLevelBvh::occluded(const Ray& ray, TraversalContext& ctx) const {
   if (!twins_.empty() && bvh_.maxDepth >= kAnyHitTwinMinDepth && bvh_.bounds.contains(ray.origin))
     return traverseBvh8<true>(wideRoot_, twins_, box, ray.tfar, ctx.nodeVisits, leaf);
 #endif
-  return traverseBvh4From<true, AnyHitOrder::FarthestFirst>(bvh_.nodes, 0, 0, box, ray.tfar,
-                                                            ctx.nodeVisits, leaf);
+  return traverseBvh4From<true>(bvh_.nodes, 0, 0, box, ray.tfar, ctx.nodeVisits, leaf);
 }
 
 namespace {
@@ -610,7 +612,7 @@ struct TopLevelPacketWalk {
     const Ray& ray = w.rays[lane];
     InstanceEntry enter(ray);
     const Bvh4Ray box(ray.origin, ray.direction, ray.tnear);
-    return traverseBvh4From<true, AnyHitOrder::FarthestFirst>(
+    return traverseBvh4From<true>(
                w.top->bvh_.nodes, child, 0, box, ray.tfar, w.ctx->nodeVisits,
                [&](std::uint32_t first, std::uint32_t count) {
                  for (std::uint32_t k = first; k < first + count; ++k)
@@ -658,9 +660,8 @@ struct TopLevelPacketWalk {
         group = kernels.meetsOneBox(top->outerBounds_, boxRays, group);
         if (group == 0) continue;
       }
-      // Any hits farthest first, as single rays walk the top level (AnyHitOrder).
-      found |= kernels.traverse(top->bvh_.nodes.data(), 0, 0, boxRays, group, anyHit,
-                                AnyHitOrder::FarthestFirst, leaf, single, &walk, ctx.nodeVisits);
+      found |= kernels.traverse(top->bvh_.nodes.data(), 0, 0, boxRays, group, anyHit, leaf, single,
+                                &walk, ctx.nodeVisits);
     }
     lanes |= alone;
     return found;
@@ -856,11 +857,9 @@ unsigned TopLevelBvh::occludedPacketPair(const Ray* rays, unsigned lanes,
   unsigned blocked = hinted;
   if (pair.load(lanes)) {
     TopLevelPairWalk walk{{&pair.walk[0], &pair.walk[1]}};
-    // Any hits farthest first, as single rays walk the top level (AnyHitOrder).
-    blocked |= kernels.occludedPair(bvh_.nodes.data(), 0, 0, pair.boxPointers,
-                                    pair.group[0] | (pair.group[1] << kPacketLanes),
-                                    AnyHitOrder::FarthestFirst, &TopLevelPairWalk::occludedLeaf,
-                                    &TopLevelPairWalk::occludedSingle, &walk, ctx.nodeVisits);
+    blocked |= kernels.occludedPair(
+        bvh_.nodes.data(), 0, 0, pair.boxPointers, pair.group[0] | (pair.group[1] << kPacketLanes),
+        &TopLevelPairWalk::occludedLeaf, &TopLevelPairWalk::occludedSingle, &walk, ctx.nodeVisits);
   }
   for (unsigned h = 0; h < 2; ++h)
     if (pair.rest[h] != 0)
