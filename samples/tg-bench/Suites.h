@@ -62,6 +62,9 @@ struct TraceOptions {
   /// "bounds": a camera outside the scene framing its bounds; "scene": the scene file's own
   /// camera (its first frame), the view a renderer of the file traces.
   std::string view = "bounds";
+  /// Trace the scene's triangles flattened into one object without a transform (as `overhead`
+  /// compares), the file's camera kept: the walks of one object alone, with no top level.
+  bool flatten = false;
 };
 
 /// Default repetitions of the sync suite: an edit's sync and a frame step are short, so more

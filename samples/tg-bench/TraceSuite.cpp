@@ -13,6 +13,7 @@
 
 #include "BenchSceneLoader.h"
 #include "BenchTiming.h"
+#include "FlattenedScene.h"
 #include "HitComparison.h"
 #include "ImageJudge.h"
 #include "RayGenerators.h"
@@ -193,19 +194,29 @@ std::vector<std::uint8_t> subsampleFlags(std::span<const std::uint8_t> flags, st
     row.extra.push_back(intField("prim_mismatches", static_cast<std::int64_t>(counts.prim)));
 }
 
+/// The scene `options` names, flattened into one mesh when asked (its camera kept).
+BenchScene loadTraceScene(const TraceOptions& options) {
+  BenchScene bench = loadBenchScene(options.scene);
+  if (!options.flatten) return bench;
+  BenchScene flat = flatten(bench).scene;
+  flat.camera = bench.camera;
+  return flat;
+}
+
 }  // namespace
 
 BenchReport runTraceSuite(const CommonOptions& common, const TraceOptions& options) {
   const int reps = repsOrDefault(common, kDefaultTraceReps);
   const bool shadow = options.rays == "shadow";
-  const BenchScene bench = loadBenchScene(options.scene);
+  const BenchScene bench = loadTraceScene(options);
   BenchReport report = startReport("trace", common);
   const bool sceneView = options.view == "scene";
   if (sceneView && !bench.camera)
     throw Error("trace --view scene: '" + options.scene + "' has no camera of its own");
   const std::string caseName =
       options.scene + " " + options.rays + " " + std::to_string(options.size.width) + "x" +
-      std::to_string(options.size.height) + (sceneView ? " scene view" : "");
+      std::to_string(options.size.height) + (sceneView ? " scene view" : "") +
+      (options.flatten ? " flattened" : "");
   tbb::task_arena arena(common.threads);
 
   progress("trace: building " + options.scene);

@@ -116,6 +116,9 @@ int main(int argc, char** argv) {
                    "scene file's own camera (.aff/.nff with a viewpoint)")
       ->check(CLI::IsMember({"bounds", "scene"}))
       ->capture_default_str();
+  traceCmd->add_flag("--flatten", trace.flatten,
+                     "Trace the scene's triangles flattened into one object (no top level); "
+                     "Embree gets the same single mesh");
   std::string sizeText = "1024x768";
   traceCmd->add_option("--size", sizeText, "Image size WxH")
       ->check(imageSizeValidator())
