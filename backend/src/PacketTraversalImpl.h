@@ -130,11 +130,10 @@ unsigned walkLanes(const Bvh4Node* nodes, std::uint32_t rootChild, std::uint32_t
         int j = n++;
         if constexpr (!kAnyHit) {
           // Closest hits by one lane's entry, not the smallest over the lanes: the lanes of a
-          // coherent packet enter
-          // a box close together, and the horizontal minimum per child hit (a chain of three
-          // shuffles and minima) cost more than the order it bought. Interleaved runs from the
-          // BART cameras: robots 3.5% and kitchen 1.3% less time; from outside, robots 1.6% and
-          // the kitchen unchanged.
+          // coherent packet enter a box close together, and the horizontal minimum per child
+          // hit (a chain of three shuffles and minima) cost more than the order it bought.
+          // Interleaved runs from the BART cameras: robots 3.5% and kitchen 1.3% less time;
+          // from outside, robots 1.6% and the kitchen unchanged.
           const float k = entry[s][lowestLane(hit[s])];
           for (; j > 0 && key[j - 1] > k; --j) {
             key[j] = key[j - 1];

@@ -46,12 +46,12 @@ constexpr std::size_t kTwinMinDepth = 3;
 /// straight down to its blocker, so the twins save it about half the levels, at a price per
 /// ray. Unhinted shadow rays from the BART cameras, one thread, time as a share of Embree
 /// MEDIUM's rtcOccluded1, first with the top levels walked farthest middle first: the robots
-/// (depth 6) 1.17-1.19 -> 1.04-1.07 through the twins (3.9 -> 2.7 node visits per ray), the
-/// kitchen (depth 4) 1.12-1.16 -> 1.20-1.21. Then, two threads, in the any-hit order of Bvh4.h
-/// (highest slot first): the robots' walk through the twins 2.67 -> 2.00 visits per ray, while
-/// through twins the kitchen's would rise from 2.01 to 3.84 and its time from 1.16 to 1.99 of
-/// Embree's (an opened slot's children do not all keep its place among a twin's slots, so the
-/// upper side of a split is not always taken first).
+/// (depth 6) 1.17-1.19 -> 1.04-1.07 through the twins (3.9 -> 2.7 node visits per ray; from
+/// outside 0.88-0.90 -> 0.94-0.96), the kitchen (depth 4) 1.12-1.16 -> 1.20-1.21. Then, two
+/// threads, in the any-hit order of Bvh4.h (highest slot first): the robots' walk through the
+/// twins 2.67 -> 2.00 visits per ray, while through twins the kitchen's would rise from 2.01
+/// to 3.84 and its time from 1.16 to 1.99 of Embree's (an opened slot's children do not all keep
+/// its place among a twin's slots, so the upper side of a split is not always taken first).
 constexpr std::size_t kAnyHitTwinMinDepth = 5;
 
 /// Success rate (TraversalContext::OccluderHint::successRate, in 1/65536) below which the
