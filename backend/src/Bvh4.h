@@ -302,12 +302,12 @@ class LocalVisitCount {
 // slot first in objects and the farthest middle of the ray's stretch first in top levels (the
 // orders before): node visits per ray 3.52 -> 2.01 (kitchen), 2.67 -> 2.00 (robots),
 // 3.67 -> 3.30 (museum), 5.65 -> 2.01 for the kitchen flattened into one object; Callgrind
-// counted 18% (kitchen) and 9% (robots) fewer instructions; time as a share of Embree MEDIUM's
-// rtcOccluded1, alternating processes, 0.61-0.66 -> 0.86-0.89 (kitchen) and 0.80-0.84 -> 0.94
-// (robots). From cameras framing the bounds: 1.57 -> 1.40 (kitchen), 1.93 -> 2.10 (robots),
-// 2.60 -> 1.66 (museum), and 7.38 -> 7.36 for the built-in sphereflake. A scene lit from below
-// would walk longer; no fixed order suits every scene, and the occluder hint
-// (TraversalContext::occluder) finds coherent blockers in any order.
+// counted 18% (kitchen) and 9% (robots) fewer instructions; speed as a share of Embree MEDIUM's
+// rtcOccluded1 in alternating processes, 0.61-0.66 -> 0.86-1.02 (kitchen) and 0.80-0.84 ->
+// 0.94-1.00 (robots). From cameras framing the bounds, node visits per ray: 1.57 -> 1.40
+// (kitchen), 1.93 -> 2.10 (robots), 2.60 -> 1.66 (museum), and 7.38 -> 7.36 for the built-in
+// sphereflake. A scene lit from below would walk longer; no fixed order suits every scene, and the
+// occluder hint (TraversalContext::occluder) finds coherent blockers in any order.
 
 /// Walks a BVH4. Closest-hit walks go front to back: at each node the children hit are visited
 /// nearest entry first, the others pushed with their entry distance and skipped when popped
