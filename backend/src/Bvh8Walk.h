@@ -21,8 +21,10 @@ namespace tg::detail {
 
 #if TG_BVH8_WALK
 /// A subtree waiting on an eight-wide walk's stack: node `child` of the eight-wide array when
-/// `count` is 0, else the leaf of `count` primitives at `child`; `key` is the entry distance
-/// (closest hits visit smaller keys first and skip those beyond the closest hit).
+/// `count` is 0, else the leaf of `count` primitives at `child`; `key` orders the children of a
+/// node: the entry distance for closest hits, which visit smaller keys first and skip those
+/// beyond the closest hit; for any hits only traverseBvh8's sort of the root's children reads
+/// it (minus the slot, so the highest slot comes first).
 struct Bvh8WalkEntry {
   std::uint32_t child, count;
   float key;
