@@ -270,6 +270,15 @@ Vec3f Texture::mipTexel(std::size_t level, long long x, long long y) const {
 
 namespace {
 
+/// std::floor(v) as an integer, for finite |v| < 2^53 (wrapped coordinates lie within a side
+/// of the level, below 2^32): the truncation, one lower where it rounded up. x86-64's baseline
+/// has no rounding instruction, and std::floor took a sixth of a bilinear lookup's instructions
+/// (Callgrind, a BART kitchen `opengl` frame: lookups 1285M -> 1097M, the frame 1.8% fewer).
+long long floorToInteger(double v) {
+  const auto i = static_cast<long long>(v);
+  return static_cast<double>(i) > v ? i - 1 : i;
+}
+
 /// The four texels and weights of a bilinear lookup in a width x height level.
 struct BilinearFootprint {
   std::uint32_t c0, c1, r0, r1;  ///< columns and rows, wrapped
@@ -296,8 +305,8 @@ Vec3f Texture::bilinear(const Vec2f& uv, std::uint32_t width, std::uint32_t heig
   if (!std::isfinite(x) || !std::isfinite(y)) return texelAt(0, 0);
   // Texel centres sit at half-integers; interpolate between the four around (x, y).
   const double fx = x - 0.5, fy = y - 0.5;
-  const double x0 = std::floor(fx), y0 = std::floor(fy);
-  const long long ix = static_cast<long long>(x0), iy = static_cast<long long>(y0);
+  const long long ix = floorToInteger(fx), iy = floorToInteger(fy);
+  const auto x0 = static_cast<double>(ix), y0 = static_cast<double>(iy);
   // Each column and row wrapped once, shared by the two texels that use it.
   const BilinearFootprint f{.c0 = wrap(ix, width),
                             .c1 = wrap(ix + 1, width),
@@ -314,7 +323,7 @@ Vec3f Texture::sample(const Vec2f& uv, TextureFilter filter) const {
     const double x = wrapCoordinate(uv.u, image_.width());
     const double y = wrapCoordinate(uv.v, image_.height());
     if (!std::isfinite(x) || !std::isfinite(y)) return texel(0, 0);
-    return texel(static_cast<long long>(std::floor(x)), static_cast<long long>(std::floor(y)));
+    return texel(floorToInteger(x), floorToInteger(y));
   }
   return bilinear(uv, image_.width(), image_.height(),
                   [this](std::uint32_t c, std::uint32_t r) { return at(c, r); });
