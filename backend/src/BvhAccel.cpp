@@ -18,6 +18,7 @@
 
 #include "Bvh4Refit.h"
 #include "Bvh8Walk.h"
+#include "BvhBinning.h"
 #include "tracegraph/backend/Simd.h"
 
 namespace tg::detail {
@@ -32,15 +33,19 @@ constexpr std::size_t kParallelBuildRange = 2048;
 /// Top levels of a large tree whose children refit as parallel tasks: 4^2 subtrees keep two
 /// threads busy, however unevenly the triangles are spread.
 constexpr int kParallelRefitLevels = 2;
-/// Degenerate count and bounds of the non-degenerate triangles, reduced over a mesh.
-struct TriangleSummary {
+/// Degenerate count and bounds of the non-degenerate triangles: reduced over a mesh with Box3f
+/// bounds (TriangleSummary), gathered by a refit's leaves in SSE registers (RefitSummary).
+template <class Box>
+struct TriangleSummaryOf {
   std::size_t degenerate = 0;
-  Box3f bounds;
-  void merge(const TriangleSummary& o) {
+  Box bounds;
+  void merge(const TriangleSummaryOf& o) {
     degenerate += o.degenerate;
     bounds.extend(o.bounds);
   }
 };
+using TriangleSummary = TriangleSummaryOf<Box3f>;
+using RefitSummary = TriangleSummaryOf<SseBox>;
 
 /// Reduces perTriangle(i, acc) over the triangles [0, n) into an Acc (which provides merge),
 /// on the calling thread below kParallelTriangles, else in blocks of at least `grain`.
@@ -86,46 +91,76 @@ TriangleVertices verticesOf(const TriangleMesh& mesh, std::size_t triangle) {
   return {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
 }
 
-Box3f boxOf(const TriangleVertices& t) {
-  return {min(min(t.v0, t.v1), t.v2), max(max(t.v0, t.v1), t.v2)};
+/// The vertices of `t` in SSE registers, lane 3 repeating z: three loads that stay inside the
+/// triangle's nine floats.
+inline void loadVertices(const TriangleVertices& t, __m128& a, __m128& b, __m128& c) {
+  static_assert(sizeof(TriangleVertices) == 9 * sizeof(float), "vertices must be packed floats");
+  const float* f = &t.v0.x;
+  const __m128 r0 = _mm_loadu_ps(f), r1 = _mm_loadu_ps(f + 3), r2 = _mm_loadu_ps(f + 5);
+  a = _mm_shuffle_ps(r0, r0, _MM_SHUFFLE(2, 2, 1, 0));
+  b = _mm_shuffle_ps(r1, r1, _MM_SHUFFLE(2, 2, 1, 0));
+  c = _mm_shuffle_ps(r2, r2, _MM_SHUFFLE(3, 3, 2, 1));
 }
 
-/// True when one component of the float cross product of the edges is certainly non-zero in
-/// exact arithmetic. Each edge, product and difference adds one rounding (relative 2^-24), so the
-/// float component differs from the exact one by less than 2^-21 times the sum of its products'
-/// magnitudes; 2^-20 leaves a margin, and 2^-120 covers products that underflow. Infinite or
-/// NaN components never pass.
-inline bool certainlyNonDegenerate(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
-  const Vec3f e1 = b - a, e2 = c - a;
-  const auto nonZero = [](float p, float q) {
-    return std::abs(p - q) > 0x1p-20f * (std::abs(p) + std::abs(q)) + 0x1p-120f;
-  };
-  return nonZero(e1.y * e2.z, e1.z * e2.y) || nonZero(e1.z * e2.x, e1.x * e2.z) ||
-         nonZero(e1.x * e2.y, e1.y * e2.x);
+/// The box of the triangle (a, b, c), as Vec3's min and max take it (MINPS and MAXPS choose
+/// between their operands as those do, NaN and signed zeros included).
+inline SseBox triangleBox(__m128 a, __m128 b, __m128 c) {
+  return {_mm_min_ps(_mm_min_ps(a, b), c), _mm_max_ps(_mm_max_ps(a, b), c)};
 }
 
-/// isDegenerateTriangle with a float answer for the common case: the exact test in double costs
-/// as much as the rest of a refit's work on a triangle.
-inline bool degenerate(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
-  return !certainlyNonDegenerate(a, b, c) && isDegenerateTriangle(a, b, c);
+/// True when one component of the float cross product of the edges b - a and c - a is
+/// certainly non-zero in exact arithmetic (the three components side by side). Each edge,
+/// product and difference adds one rounding (relative 2^-24), so the float component differs
+/// from the exact one by less than 2^-21 times the sum of its products' magnitudes; 2^-20 leaves
+/// a margin, and 2^-120 covers products that underflow. Infinite or NaN components never pass.
+inline bool certainlyNonDegenerate(__m128 a, __m128 b, __m128 c) {
+  const __m128 e1 = _mm_sub_ps(b, a), e2 = _mm_sub_ps(c, a);
+  const auto yzx = [](__m128 v) { return _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 0, 2, 1)); };
+  const auto zxy = [](__m128 v) { return _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 1, 0, 2)); };
+  const __m128 p = _mm_mul_ps(yzx(e1), zxy(e2)), q = _mm_mul_ps(zxy(e1), yzx(e2));
+  const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
+  const __m128 difference = _mm_and_ps(_mm_sub_ps(p, q), absMask);
+  const __m128 bound = _mm_add_ps(
+      _mm_mul_ps(_mm_set1_ps(0x1p-20f), _mm_add_ps(_mm_and_ps(p, absMask), _mm_and_ps(q, absMask))),
+      _mm_set1_ps(0x1p-120f));
+  return (_mm_movemask_ps(_mm_cmpgt_ps(difference, bound)) & 7) != 0;
+}
+
+/// isDegenerateTriangle for `t`, loaded as (a, b, c), with a float answer for the common case:
+/// the exact test in double costs as much as the rest of a refit's work on a triangle.
+inline bool degenerate(const TriangleVertices& t, __m128 a, __m128 b, __m128 c) {
+  return !certainlyNonDegenerate(a, b, c) && isDegenerateTriangle(t.v0, t.v1, t.v2);
 }
 
 /// Box of the leaf triangles [first, first + count) (in leaf order); their degenerate count
-/// and the bounds of the others go into `acc`.
-inline Box3f leafBox(const TriangleVertices* triangles, std::uint32_t first, std::uint32_t count,
-                     TriangleSummary& acc) {
-  Box3f box;
+/// goes into `degenerateCount` and the boxes of the others into `bounds`: the boxes of a loop with
+/// Box3f, in SSE registers. Callgrind, refits of 65,536 triangles: 30% fewer instructions with
+/// these and refitBvh4's slots in SSE (69.5M -> 48.8M for four refits), Morton builds 7.5%.
+inline SseBox leafBoxSse(const TriangleVertices* triangles, std::uint32_t first,
+                         std::uint32_t count, std::size_t& degenerateCount, SseBox& bounds) {
+  SseBox box;
   for (std::uint32_t k = first; k < first + count; ++k) {
     const TriangleVertices& t = triangles[k];
-    const Box3f b = boxOf(t);
-    box.extend(b);
-    if (degenerate(t.v0, t.v1, t.v2)) {
-      ++acc.degenerate;
+    __m128 a, b, c;
+    loadVertices(t, a, b, c);
+    const SseBox triangle = triangleBox(a, b, c);
+    box.extend(triangle);
+    if (degenerate(t, a, b, c)) {
+      ++degenerateCount;
     } else {
-      acc.bounds.extend(b);
+      bounds.extend(triangle);
     }
   }
   return box;
+}
+
+/// leafBoxSse for the builds' TriangleSummary.
+inline Box3f leafBox(const TriangleVertices* triangles, std::uint32_t first, std::uint32_t count,
+                     TriangleSummary& acc) {
+  SseBox bounds = SseBox::of(acc.bounds);
+  const SseBox box = leafBoxSse(triangles, first, count, acc.degenerate, bounds);
+  acc.bounds = bounds.box();
+  return box.box();
 }
 
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
@@ -175,8 +210,10 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   const SahSummary summary =
       reduceTriangles<SahSummary>(n, 1024, [&](std::size_t i, SahSummary& acc) {
         const TriangleVertices t = verticesOf(mesh, i);
-        const bool isDegenerate = degenerate(t.v0, t.v1, t.v2);
-        const Box3f box = boxOf(t);
+        __m128 a, b, c;
+        loadVertices(t, a, b, c);
+        const bool isDegenerate = degenerate(t, a, b, c);
+        const Box3f box = triangleBox(a, b, c).box();
         prims_[i] = BvhPrim::make(isDegenerate ? Box3f{} : box, static_cast<std::uint32_t>(i));
         if (isDegenerate) {
           ++acc.degenerate;
@@ -337,17 +374,18 @@ void BvhAccel::refitFromMesh(const TriangleMesh& mesh) {
   // triangles, each node its children's union on the way up.
   const std::size_t n = primIds_.size();
   forEachIndex(n, 4096, [&](std::size_t i) { triangles_[rank_[i]] = verticesOf(mesh, i); });
-  const auto leaf = [&](std::uint32_t first, std::uint32_t count, TriangleSummary& acc) {
-    return leafBox(triangles_.data(), first, count, acc);
+  const auto leaf = [&](std::uint32_t first, std::uint32_t count, RefitSummary& acc) {
+    return leafBoxSse(triangles_.data(), first, count, acc.degenerate, acc.bounds);
   };
-  TriangleSummary summary;
+  RefitSummary summary;
   Bvh4SahSum sum;
   const Box3f root =
       nodes_.empty() ? Box3f{}
                      : refitBvh4(nodes_, 0, leaf, kTraversalCost, kIntersectionCost,
-                                 n < kParallelTriangles ? 0 : kParallelRefitLevels, sum, summary);
+                                 n < kParallelTriangles ? 0 : kParallelRefitLevels, sum, summary)
+                           .box();
   stats_.sahCost = nodes_.empty() ? 0.0 : sum.finish(root, kTraversalCost);
-  bounds_ = summary.bounds;
+  bounds_ = summary.bounds.box();
   stats_.degenerate = summary.degenerate;
 }
 

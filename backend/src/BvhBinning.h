@@ -29,6 +29,11 @@ struct SseBox {
   /// Maximum corner in lanes 0-2.
   __m128 upper = _mm_set1_ps(-std::numeric_limits<float>::infinity());
 
+  /// The box `b` (lane 3 zero).
+  static SseBox of(const Box3f& b) {
+    return {_mm_setr_ps(b.lower.x, b.lower.y, b.lower.z, 0.0f),
+            _mm_setr_ps(b.upper.x, b.upper.y, b.upper.z, 0.0f)};
+  }
   /// Grows the box to contain [lo, hi].
   void extend(__m128 lo, __m128 hi) {
     lower = _mm_min_ps(lower, lo);

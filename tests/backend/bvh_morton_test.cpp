@@ -391,7 +391,7 @@ BOOST_AUTO_TEST_CASE(refit_recomputes_boxes_bottom_up) {
   const auto leafBox = [&](std::uint32_t first, std::uint32_t count, NoLeafData&) {
     Box3f b;
     for (std::uint32_t k = first; k < first + count; ++k) b.extend(boxes[order[k]]);
-    return b;
+    return SseBox::of(b);
   };
   // Unchanged boxes: the refit reproduces the build's boxes and cost exactly, serial or not.
   for (int levels : {0, 2}) {
@@ -399,7 +399,8 @@ BOOST_AUTO_TEST_CASE(refit_recomputes_boxes_bottom_up) {
     Bvh4SahSum sum;
     NoLeafData none;
     const Box3f root = refitBvh4(nodes, 0, leafBox, options.traversalCost, options.intersectionCost,
-                                 levels, sum, none);
+                                 levels, sum, none)
+                           .box();
     BOOST_TEST((root == built.bounds));
     BOOST_TEST(sum.finish(root, options.traversalCost) == built.sahCost);
     BOOST_TEST(sameTree(nodes, 0, built.nodes, 0));
@@ -413,7 +414,7 @@ BOOST_AUTO_TEST_CASE(refit_recomputes_boxes_bottom_up) {
   Bvh4NodeArray nodes = built.nodes;
   Bvh4SahSum sum;
   NoLeafData none;
-  const Box3f root = refitBvh4(nodes, 0, leafBox, 1.0, 1.0, 2, sum, none);
+  const Box3f root = refitBvh4(nodes, 0, leafBox, 1.0, 1.0, 2, sum, none).box();
   std::vector<Box3f> sorted(boxes.size());
   for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = boxes[order[k]];
   std::vector<int> seen(boxes.size(), 0);
