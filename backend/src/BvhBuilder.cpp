@@ -283,13 +283,7 @@ class Builder {
   /// The root range from the caller's bounds: what makeRange would gather (lane 3 zero, as
   /// the primitives' loads leave it), without the pass over the primitives.
   Range knownRange(const BvhPrimBounds& b) const {
-    const auto sse = [](const Box3f& box) {
-      SseBox out;
-      out.lower = _mm_setr_ps(box.lower.x, box.lower.y, box.lower.z, 0.0f);
-      out.upper = _mm_setr_ps(box.upper.x, box.upper.y, box.upper.z, 0.0f);
-      return out;
-    };
-    return {0, prims_.size(), sse(b.bounds), sse(b.centroids)};
+    return {0, prims_.size(), SseBox::of(b.bounds), SseBox::of(b.centroids)};
   }
 
   /// Bins `r` on all axes (axis < 0) or on one.
