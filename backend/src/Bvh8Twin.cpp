@@ -1,7 +1,12 @@
 // Eight-wide twins of BVH4 nodes (see Bvh8Twin.h).
 #include "Bvh8Twin.h"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <bit>
 #include <limits>
+#include <vector>
 
 namespace tg::detail {
 namespace {
@@ -83,14 +88,357 @@ std::uint32_t appendWideNode(const Bvh4NodeArray& nodes, std::uint32_t i, Bvh8No
   return index;
 }
 
+/// Part of a BVH4 node that a wide node holds as one child: the slots of `node` in `mask`.
+/// Every part the collapse makes is a node's used slots or a group of them that lowHalf made,
+/// so parts form a binary tree over the BVH4's slots.
+struct Part {
+  std::uint32_t node;
+  unsigned mask;
+  /// One slot holding a leaf.
+  bool leaf = false;
+};
+
+/// True when `mask` holds at most one slot (std::popcount is a library call on x86-64's
+/// baseline).
+bool atMostOneSlot(unsigned mask) {
+  return (mask & (mask - 1)) == 0;
+}
+
+/// The used slots of `node` as a mask.
+unsigned usedMask(const Bvh4Node& node) {
+  unsigned mask = 0;
+  for (int s = 0; s < 4; ++s)
+    if (used(node, s)) mask |= 1u << s;
+  return mask;
+}
+
+/// A part of one slot that holds an inner node stands for that node's used slots; a part of one
+/// leaf slot is marked as a leaf.
+Part normalised(const Bvh4NodeArray& nodes, Part p) {
+  while (atMostOneSlot(p.mask)) {
+    const Bvh4Node& n = nodes[p.node];
+    const int s = std::countr_zero(p.mask);
+    if (!n.isInner(s)) return Part{p.node, p.mask, true};
+    p = Part{n.child[s], usedMask(nodes[n.child[s]])};
+  }
+  return p;
+}
+
+/// Union of the slot boxes of `p`.
+Box3f partBox(const Bvh4NodeArray& nodes, const Part& p) {
+  Box3f box;
+  for (unsigned m = p.mask; m != 0; m &= m - 1)
+    box.extend(nodes[p.node].slotBounds(std::countr_zero(m)));
+  return box;
+}
+
+/// Union of the boxes in `box` of the slots in `mask`.
+Box3f unionOf(const Box3f (&box)[4], unsigned mask) {
+  Box3f b;
+  for (; mask != 0; mask &= mask - 1) b.extend(box[std::countr_zero(mask)]);
+  return b;
+}
+
+/// How the collapse splits the slots in `mask` (two to four of a node whose slot boxes are `box`):
+/// the slots of the half that holds the lowest one. Two slots go one each; three the pair of
+/// the smallest box and the third; four the pairing whose two boxes have the smallest summed
+/// area (the binned SAH made the node by splitting its range in two, then the wider halves
+/// again; the node does not record which slots came from which half, and the tightest pairing
+/// stands for it).
+unsigned lowHalf(const Box3f (&box)[4], unsigned mask) {
+  int slots[4];
+  int k = 0;
+  for (unsigned m = mask; m != 0; m &= m - 1) slots[k++] = std::countr_zero(m);
+  const auto pairArea = [&](int a, int b) {
+    Box3f u = box[a];
+    u.extend(box[b]);
+    return u.area();
+  };
+  if (k == 2) return 1u << slots[0];
+  if (k == 3) {
+    const float a01 = pairArea(slots[0], slots[1]), a02 = pairArea(slots[0], slots[2]),
+                a12 = pairArea(slots[1], slots[2]);
+    if (a01 <= a02 && a01 <= a12) return (1u << slots[0]) | (1u << slots[1]);
+    if (a02 <= a12) return (1u << slots[0]) | (1u << slots[2]);
+    return 1u << slots[0];
+  }
+  const float c01 = pairArea(slots[0], slots[1]) + pairArea(slots[2], slots[3]);
+  const float c02 = pairArea(slots[0], slots[2]) + pairArea(slots[1], slots[3]);
+  const float c03 = pairArea(slots[0], slots[3]) + pairArea(slots[1], slots[2]);
+  const int partner = c01 <= c02 && c01 <= c03 ? 1 : (c02 <= c03 ? 2 : 3);
+  return (1u << slots[0]) | (1u << slots[partner]);
+}
+
+/// The collapse of a BVH4 into the eight-wide tree of the smallest SAH node cost (the summed
+/// surface areas of its nodes; the leaves are the BVH4's in every collapse), by the dynamic
+/// programme of Ylitie, Karras and Laine, "Efficient Incoherent Ray Traversal on GPUs Through
+/// Compressed Wide BVHs" (2017), over the binary tree of parts: for every part and every budget
+/// i of 1 to 8, the cheapest way to stand for its subtree with at most i children of the
+/// enclosing wide node, either as one wide node of its own or spread over the roots of its two
+/// halves.
+class WideCollapse {
+ public:
+  explicit WideCollapse(const Bvh4NodeArray& nodes)
+      : nodes_(nodes), parts_(3 * nodes.size()), emitted_(3 * nodes.size(), kInvalidId) {
+    if (!nodes.empty()) solveSubtree(0, 0);
+  }
+
+  /// Solves the parts of node `i`'s subtree, children before parents; the subtrees of the first
+  /// kParallelLevels levels in parallel (they share no parts). On one thread the flattened BART
+  /// kitchen's collapse took about 5 ms, twice the binned build's leaf rows beside it.
+  void solveSubtree(std::uint32_t i, int depth) {
+    const Bvh4Node& n = nodes_[i];
+    std::uint32_t inner[4];
+    int count = 0;
+    for (int s = 0; s < 4; ++s)
+      if (n.isInner(s)) inner[count++] = n.child[s];
+    if (depth < kParallelLevels && count > 1) {
+      tbb::parallel_for(0, count, [&](int k) { solveSubtree(inner[k], depth + 1); });
+    } else {
+      for (int k = 0; k < count; ++k) solveSubtree(inner[k], depth + 1);
+    }
+    solveNode(i);
+  }
+
+  /// Solves the parts of node `i`, whose children are solved: the node's slots split in two
+  /// (lowHalf), and each half of two slots split again; the halves keep slot order (the one
+  /// holding the lowest slot comes first). The slot boxes are read once, for every split and
+  /// area.
+  void solveNode(std::uint32_t node) {
+    const std::size_t i = node;
+    const Bvh4Node& n = nodes_[i];
+    Box3f box[4];
+    unsigned mask = 0;
+    for (int s = 0; s < 4; ++s) {
+      if (!used(n, s)) continue;
+      mask |= 1u << s;
+      box[s] = n.slotBounds(s);
+    }
+    PartCosts& full = parts_[3 * i];
+    full.mask = static_cast<std::uint8_t>(mask);
+    parts_[3 * i + 1].mask = 0;  // written below when this node has pairs
+    parts_[3 * i + 2].mask = 0;
+    if (atMostOneSlot(mask)) return;  // a root of one slot: see append()
+    const unsigned low = lowHalf(box, mask);
+    const Part first = normalised(nodes_, Part{node, low});
+    const Part second = normalised(nodes_, Part{node, mask & ~low});
+    // The halves that are pairs of this node's slots, then the node.
+    for (int h = 0; h < 2; ++h) {
+      const unsigned half = h == 0 ? low : mask & ~low;
+      if (atMostOneSlot(half)) continue;
+      PartCosts& pair = parts_[3 * i + 1 + h];
+      pair.mask = static_cast<std::uint8_t>(half);
+      const unsigned lowest = half & (0u - half);
+      pair.setHalves(normalised(nodes_, Part{node, lowest}),
+                     normalised(nodes_, Part{node, half & ~lowest}));
+      solve(pair, unionOf(box, half).area(), pair.half(0), pair.half(1));
+    }
+    full.setHalves(first, second);
+    solve(full, unionOf(box, mask).area(), first, second);
+  }
+
+  /// Appends the wide tree to `wide`, root first, and then, into `entries` (when given), the
+  /// wide nodes of the BVH4 nodes of the first kBvh8EntryDepth levels below the root, sorted by
+  /// BVH4 node. A node whose part the tree already holds as a wide node enters it there; the
+  /// others get wide nodes of their own, above the wide nodes of the tree they share.
+  void append(Bvh8NodeArray& wide, std::vector<Bvh8Entry>* entries) {
+    if (nodes_.empty()) return;
+    const Part root = normalised(nodes_, Part{0, usedMask(nodes_[0])});
+    if (root.leaf) {
+      // A tree of one leaf: a node of one slot.
+      wide.emplace_back();
+      const Bvh4Node& n = nodes_[root.node];
+      const int s = std::countr_zero(root.mask);
+      const Slot slot{n.slotBounds(s), n.child[s], n.count[s]};
+      writeSlots(&slot, 1, wide[0]);
+      return;
+    }
+    appendNode(root, wide);
+    if (entries == nullptr) return;
+    // Children are numbered after their parents, so a walk forwards meets parents first, and
+    // the entries come out sorted.
+    std::vector<std::uint8_t> depth(nodes_.size(), 255);  // 255: not within the entry levels
+    depth[0] = 0;
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      if (depth[i] > kBvh8EntryDepth) continue;
+      const unsigned mask = usedMask(nodes_[i]);
+      const auto node = static_cast<std::uint32_t>(i);
+      if (!atMostOneSlot(mask))
+        entries->push_back(Bvh8Entry{node, appendNode(Part{node, mask}, wide)});
+      for (int s = 0; s < 4; ++s)
+        if (nodes_[i].isInner(s))
+          depth[nodes_[i].child[s]] = static_cast<std::uint8_t>(depth[i] + 1);
+    }
+  }
+
+ private:
+  static constexpr int kWidth = 8;
+  /// BVH4 levels whose subtrees solveSubtree solves as parallel tasks.
+  static constexpr int kParallelLevels = 3;
+
+  /// What the programme keeps for one part of two or more slots.
+  /// Left unwritten until solved (the array is as large as the BVH4), except `mask`.
+  /// Forty-eight bytes: the array is written once per build, mostly to pages touched for the
+  /// first time, and on two threads those first touches held up the collapse.
+  struct PartCosts {
+    /// cost[i - 1]: the cheapest node cost of its subtree with at most i roots.
+    float cost[kWidth];
+    /// Three bits per budget i of 2 to 8 (bits 3(i - 2) up): the roots given to the first half
+    /// when spread over i roots, 0 when one wide node of its own is cheaper; bits 21 to 23: the
+    /// roots of its first half when it is a wide node of its own (eight in all).
+    std::uint32_t choices;
+    /// Its halves (lowHalf), normalised: their nodes, then their masks with bit 4 set for a
+    /// leaf.
+    std::uint32_t halfNode[2];
+    std::uint8_t halfMask[2];
+    std::uint8_t mask;
+
+    int firstRoots(int i) const { return i < 2 ? 0 : (choices >> (3 * (i - 2))) & 7u; }
+    int ownFirst() const { return (choices >> 21) & 7u; }
+    Part half(int h) const {
+      return Part{halfNode[h], halfMask[h] & 15u, (halfMask[h] & 16u) != 0};
+    }
+    void setHalves(const Part& first, const Part& second) {
+      halfNode[0] = first.node;
+      halfNode[1] = second.node;
+      halfMask[0] = static_cast<std::uint8_t>(first.mask | (first.leaf ? 16u : 0u));
+      halfMask[1] = static_cast<std::uint8_t>(second.mask | (second.leaf ? 16u : 0u));
+    }
+  };
+  static_assert(sizeof(PartCosts) == 48);
+
+  /// Where part `p` (of two or more slots, normalised) sits in parts_.
+  std::size_t indexOf(const Part& p) const {
+    const std::size_t at = 3 * std::size_t{p.node};
+    if (parts_[at].mask == p.mask) return at;
+    return parts_[at + 1].mask == p.mask ? at + 1 : at + 2;
+  }
+
+  const PartCosts& costsOf(const Part& p) const { return parts_[indexOf(p)]; }
+
+  /// The costs of part `p` (normalised) for 1 to 8 roots in costs[1..8]: a leaf costs nothing.
+  void costsInto(const Part& p, float (&costs)[kWidth + 1]) const {
+    if (p.leaf) {
+      for (int i = 1; i <= kWidth; ++i) costs[i] = 0.0f;
+      return;
+    }
+    const PartCosts& c = costsOf(p);
+    for (int i = 1; i <= kWidth; ++i) costs[i] = c.cost[i - 1];
+  }
+
+  /// The cheapest split of j roots between halves `firstHalf` and `secondHalf`, for j of 2 to
+  /// 8, and the roots the first half takes in each.
+  void spreadOf(const Part& firstHalf, const Part& secondHalf, float (&spread)[kWidth + 1],
+                std::uint8_t (&first)[kWidth + 1]) const {
+    float a[kWidth + 1], b[kWidth + 1];
+    costsInto(firstHalf, a);
+    costsInto(secondHalf, b);
+    for (int j = 2; j <= kWidth; ++j) {
+      // Without branches: which k wins is data the branch predictor cannot learn.
+      float best = a[1] + b[j - 1];
+      int bestK = 1;
+      for (int k = 2; k < j; ++k) {
+        const float sum = a[k] + b[j - k];
+        const bool better = sum < best;
+        bestK = better ? k : bestK;
+        best = better ? sum : best;
+      }
+      spread[j] = best;
+      first[j] = static_cast<std::uint8_t>(bestK);
+    }
+  }
+
+  /// Solves a part of box area `area` from the costs of its halves.
+  void solve(PartCosts& c, float area, const Part& firstHalf, const Part& secondHalf) const {
+    float spread[kWidth + 1];
+    std::uint8_t first[kWidth + 1];
+    if (firstHalf.leaf && secondHalf.leaf) {
+      // Two leaves (most pairs): one root each whatever the budget.
+      for (int j = 2; j <= kWidth; ++j) {
+        spread[j] = 0.0f;
+        first[j] = 1;
+      }
+    } else {
+      spreadOf(firstHalf, secondHalf, spread, first);
+    }
+    const float own = area + spread[kWidth];
+    c.cost[0] = own;
+    std::uint32_t choices = std::uint32_t{first[kWidth]} << 21;
+    for (int i = 2; i <= kWidth; ++i) {
+      const bool isOwn = own <= spread[i];
+      c.cost[i - 1] = isOwn ? own : spread[i];
+      choices |= (isOwn ? 0u : std::uint32_t{first[i]}) << (3 * (i - 2));
+    }
+    c.choices = choices;
+  }
+
+  /// The roots that stand for part `p` with at most `i` of them, in slot order.
+  void roots(const Part& p, int i, Part* out, int& n) const {
+    if (p.leaf) {
+      out[n++] = p;
+      return;
+    }
+    const PartCosts& c = costsOf(p);
+    const int k = c.firstRoots(i);
+    if (k == 0) {
+      out[n++] = p;
+      return;
+    }
+    roots(c.half(0), k, out, n);
+    roots(c.half(1), i - k, out, n);
+  }
+
+  /// Appends the wide node of part `p` (not a leaf) and then, depth first, those of its inner
+  /// children; returns its index. A part appended before is not appended again: its wide node
+  /// is shared.
+  std::uint32_t appendNode(const Part& p, Bvh8NodeArray& wide) {
+    const std::size_t at = indexOf(p);
+    if (emitted_[at] != kInvalidId) return emitted_[at];
+    Part children[kWidth];
+    int n = 0;
+    // A wide node of its own spreads its halves over its eight slots.
+    const PartCosts& c = parts_[at];
+    const int k = c.ownFirst();
+    roots(c.half(0), k, children, n);
+    roots(c.half(1), kWidth - k, children, n);
+    Slot slots[kWidth];
+    bool inner[kWidth];
+    for (int s = 0; s < n; ++s) {
+      const Bvh4Node& owner = nodes_[children[s].node];
+      inner[s] = !children[s].leaf;
+      if (!inner[s]) {
+        const int slot = std::countr_zero(children[s].mask);
+        slots[s] = Slot{owner.slotBounds(slot), owner.child[slot], owner.count[slot]};
+      } else {
+        slots[s] = Slot{partBox(nodes_, children[s]), kInvalidId, 0};
+      }
+    }
+    const auto index = static_cast<std::uint32_t>(wide.size());
+    wide.emplace_back();
+    emitted_[at] = index;
+    for (int s = 0; s < n; ++s)
+      if (inner[s]) slots[s].child = appendNode(children[s], wide);
+    writeSlots(slots, n, wide[index]);
+    return index;
+  }
+
+  const Bvh4NodeArray& nodes_;
+  /// Three per BVH4 node: the node, then its pairs.
+  std::vector<PartCosts, UninitializedAllocator<PartCosts>> parts_;
+  /// Per part (as parts_): the index of its wide node once appended, else kInvalidId.
+  std::vector<std::uint32_t> emitted_;
+};
+
 }  // namespace
 
-void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide) {
+void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide, std::vector<Bvh8Entry>* entries) {
   wide.clear();
+  if (entries != nullptr) entries->clear();
   if (nodes.empty()) return;
   wide.reserve(nodes.size());
-  appendWideNode(nodes, 0, wide);
-  // A static tree is kept for many frames: hold what it uses (about half the BVH4's count).
+  WideCollapse collapse(nodes);
+  collapse.append(wide, entries);
+  // A static tree is kept for many frames: hold what it uses.
   wide.shrink_to_fit();
 }
 

@@ -24,13 +24,32 @@ struct alignas(64) Bvh8Node {
 /// The nodes of an eight-wide BVH.
 using Bvh8NodeArray = std::vector<Bvh8Node, DefaultInitAllocator<Bvh8Node>>;
 
-/// Writes into `wide` an eight-wide BVH collapsed from `nodes`, root first. Each BVH4 node the
-/// collapse reaches gets a twin: its own slots, with the widest inner slot whose children fit
-/// opened into them, until none does (a ray that enters a wide box is the likeliest to enter
-/// its children too); a node opened into its parent's twin gets none. Twins follow each other
-/// depth first, each followed by its first inner child, and hold the indices of their inner
-/// children's twins in `wide`: about half the BVH4's count of nodes.
-void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide);
+/// A BVH4 node that has a wide node of its own: where a walk entering the tree at that node
+/// (a top level's subtree entry) enters the eight-wide tree.
+struct Bvh8Entry {
+  std::uint32_t bvh4Node;  ///< index in the BVH4
+  std::uint32_t wideNode;  ///< index in the eight-wide tree
+};
+
+/// BVH4 levels below the root whose nodes buildBvh8 gives entries (the root is level 0).
+inline constexpr int kBvh8EntryDepth = 3;
+
+/// Writes into `wide` an eight-wide BVH collapsed from `nodes`, root first, nodes depth first,
+/// each followed by its first inner child. The collapse sees each BVH4 node as a binary tree
+/// (its slots paired as lowHalf in Bvh8Twin.cpp pairs them) and picks, by dynamic
+/// programming, the eight-wide tree over the same leaves whose nodes have the smallest summed
+/// surface area (Ylitie, Karras and Laine 2017): inner nodes mostly hold eight children, and
+/// their boxes are unions of BVH4 slot boxes.
+///
+/// With `entries`, every inner BVH4 node of the first kBvh8EntryDepth levels below the root
+/// (of two or more slots) also gets a wide node that stands for its subtree, listed in
+/// `entries` sorted by BVH4 node: the tree's own when the collapse made one for the node's
+/// slots, else one appended after the tree, whose descendants are the tree's wherever the
+/// collapse of that subtree alone meets it (the dynamic programme's answer for a part does not
+/// depend on where the part sits). Walks from the root thus keep the smallest-cost tree, and a
+/// top level that enters a subtree walks it eight-wide as well, for a few extra nodes.
+void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide,
+               std::vector<Bvh8Entry>* entries = nullptr);
 
 /// buildBvh8 below the root: writes into `wide` the eight-wide trees of the root's inner
 /// children and into `root` a copy of the root node whose inner slots hold their indices in

@@ -30,9 +30,10 @@ struct Bvh8WalkEntry {
   float key;
 };
 
-/// Entries an eight-wide walk's stack holds at most: seven per level (a twin spans one or two
-/// BVH4 levels).
-inline constexpr int kBvh8StackSize = 7 * kBvh4MaxDepth + 8;
+/// Entries an eight-wide walk's stack holds at most: seven per level. A twin spans one or two
+/// BVH4 levels; a node of the smallest-cost collapse (buildBvh8) at least half of one, since its
+/// children are halves of BVH4 nodes or smaller parts.
+inline constexpr int kBvh8StackSize = 14 * kBvh4MaxDepth + 8;
 
 /// The loop the eight-wide walks share, from `current` with `stackSize` entries on `stack`:
 /// eight boxes per test with the 4-box test's arithmetic box by box (see intersectBvh4Node for
@@ -178,18 +179,18 @@ template <bool AnyHit, class LeafFn>
   return walkBvh8<AnyHit>(twins.data(), stack, stackSize, hits[0], ray, tfar, count, leaf);
 }
 
-/// traverseBvh4From's walk over a whole eight-wide BVH (buildBvh8) from its root: closest hits
-/// nearest entry first, any hits highest slot first. Compiled for AVX2 (call
-/// it only when the CPU runs AVX2).
+/// traverseBvh4From's walk over an eight-wide BVH (buildBvh8) from node `start` (0: the root):
+/// closest hits nearest entry first, any hits highest slot first. Compiled for AVX2 (call it
+/// only when the CPU runs AVX2).
 template <bool AnyHit, class LeafFn>
 [[gnu::target("avx2")]] bool traverseWideBvh8(const Bvh8NodeArray& wide, const Bvh4Ray& ray,
                                               const float& tfar, std::uint64_t& nodeVisits,
-                                              LeafFn&& leaf) {
+                                              LeafFn&& leaf, std::uint32_t start = 0) {
   if (wide.empty()) return false;
   LocalVisitCount count(nodeVisits);
   Bvh8WalkEntry stack[kBvh8StackSize];
-  return walkBvh8<AnyHit>(wide.data(), stack, 0, Bvh8WalkEntry{0, 0, ray.tnear}, ray, tfar, count,
-                          leaf);
+  return walkBvh8<AnyHit>(wide.data(), stack, 0, Bvh8WalkEntry{start, 0, ray.tnear}, ray, tfar,
+                          count, leaf);
 }
 #endif
 

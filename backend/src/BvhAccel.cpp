@@ -176,6 +176,7 @@ void BvhAccel::build(const TriangleMesh& mesh) {
   // walk's set-up cost what its fewer visits saved. Refitted (Morton) trees have none: buildSah
   // makes the copy beside the leaf rows.
   wide_.clear();
+  wideEntries_.clear();
   if (kind_ == AccelKind::BvhFast) {
     buildMorton(mesh);
   } else {
@@ -262,7 +263,7 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   const bool makeWide = TG_BVH8_WALK && activeSimdIsa() != SimdIsa::Portable;
   tbb::parallel_invoke(
       [&] {
-        if (makeWide) buildBvh8(nodes_, wide_);
+        if (makeWide) buildBvh8(nodes_, wide_, &wideEntries_);
       },
       [&] {
         forEachIndex(refs, 4096, [&](std::size_t k) { primIds_[k] = prims_[k].id; });
@@ -523,6 +524,41 @@ bool BvhAccel::intersectWhole(ObjectRay& ray, const Bvh4Ray& boxRay, Hit& hit,
                                    });
 #endif
   return intersectSubtree(ray, boxRay, hit, 0, 0, ctx);
+}
+
+std::uint32_t BvhAccel::wideEntryOf(std::uint32_t node) const {
+  const auto it = std::lower_bound(
+      wideEntries_.begin(), wideEntries_.end(), node,
+      [](const Bvh8Entry& e, std::uint32_t n) { return e.bvh4Node < n; });
+  return it != wideEntries_.end() && it->bvh4Node == node ? it->wideNode : kInvalidId;
+}
+
+bool BvhAccel::intersectWideSubtree(ObjectRay& ray, const Bvh4Ray& boxRay, Hit& hit,
+                                    std::uint32_t wideNode, TraversalContext& ctx) const {
+#if TG_BVH8_WALK
+  return traverseWideBvh8<false>(
+      wide_, boxRay, ray.tfar, ctx.nodeVisits,
+      [&](std::uint32_t first, std::uint32_t count) {
+        return intersectLeaf(ray, hit, first, count, ctx);
+      },
+      wideNode);
+#else
+  (void)ray, (void)boxRay, (void)hit, (void)wideNode, (void)ctx;
+  throw std::logic_error("BvhAccel::intersectWideSubtree: no eight-wide walk in this build");
+#endif
+}
+
+bool BvhAccel::occludedWideSubtree(const ObjectRay& ray, const Bvh4Ray& boxRay,
+                                   std::uint32_t wideNode, TraversalContext& ctx) const {
+#if TG_BVH8_WALK
+  return traverseWideBvh8<true>(
+      wide_, boxRay, ray.tfar, ctx.nodeVisits,
+      [&](std::uint32_t first, std::uint32_t count) { return occludedLeaf(ray, first, count, ctx); },
+      wideNode);
+#else
+  (void)ray, (void)boxRay, (void)wideNode, (void)ctx;
+  throw std::logic_error("BvhAccel::occludedWideSubtree: no eight-wide walk in this build");
+#endif
 }
 
 bool BvhAccel::occludedWhole(const ObjectRay& ray, const Bvh4Ray& boxRay,

@@ -149,6 +149,16 @@ class BvhAccel final : public ObjectAccel {
   bool intersectWhole(ObjectRay& ray, const Bvh4Ray& boxRay, Hit& hit, TraversalContext& ctx) const;
   /// Any hit of one ray in the whole tree (see intersectWhole).
   bool occludedWhole(const ObjectRay& ray, const Bvh4Ray& boxRay, TraversalContext& ctx) const;
+  /// The node of the eight-wide tree that stands for inner BVH4 node `node` (Bvh8Entry: the
+  /// nodes of the first kBvh8EntryDepth levels), or kInvalidId.
+  std::uint32_t wideEntryOf(std::uint32_t node) const;
+  /// intersectSubtree through the eight-wide tree, from its node `wideNode` (wideEntryOf), with
+  /// the same answers. Call it only on a CPU with AVX2 (the tree is made only there).
+  bool intersectWideSubtree(ObjectRay& ray, const Bvh4Ray& boxRay, Hit& hit,
+                            std::uint32_t wideNode, TraversalContext& ctx) const;
+  /// occludedSubtree through the eight-wide tree (see intersectWideSubtree).
+  bool occludedWideSubtree(const ObjectRay& ray, const Bvh4Ray& boxRay, std::uint32_t wideNode,
+                           TraversalContext& ctx) const;
   /// occludedSubtree with the box-test constants of `ray` already made.
   bool occludedSubtree(const ObjectRay& ray, const Bvh4Ray& boxRay, std::uint32_t child,
                        std::uint32_t count, TraversalContext& ctx) const;
@@ -194,6 +204,8 @@ class BvhAccel final : public ObjectAccel {
   /// An eight-wide BVH collapsed from nodes_, for single rays that walk the whole tree on CPUs
   /// with AVX2 (SAH trees; see build()). Empty when not made.
   Bvh8NodeArray wide_;
+  /// Where subtree entries enter wide_ (buildBvh8's entries), sorted by BVH4 node.
+  std::vector<Bvh8Entry> wideEntries_;
   /// Morton trees: the vertices in leaf order, packed; every build writes all of them (see
   /// NoInit). A refit rewrites them in place.
   std::vector<TriangleVertices, UninitializedAllocator<TriangleVertices>> triangles_;

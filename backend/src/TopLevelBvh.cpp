@@ -206,7 +206,8 @@ void TopLevelBvh::openIdentityInstances() {
       opened_.push_back(Ref{p.id, kInvalidId, 0});
       continue;
     }
-    opened_.push_back(Ref{p.id, 0, 0});
+    const auto& bvh = static_cast<const BvhAccel&>(*instances_[p.id].accel);
+    opened_.push_back(Ref{p.id, 0, 0, bvh.wideEntryOf(0)});
     heap.emplace_back(p.box().area(), index);
   }
   std::make_heap(heap.begin(), heap.end());
@@ -224,7 +225,8 @@ void TopLevelBvh::openIdentityInstances() {
     if (opened_.size() + static_cast<std::size_t>(n) - 1 > budget) break;
     for (int c = 0; c < n; ++c) {
       const std::uint32_t at = c == 0 ? index : static_cast<std::uint32_t>(opened_.size());
-      const Ref child{ref.instance, children[c].child, children[c].count};
+      const Ref child{ref.instance, children[c].child, children[c].count,
+                      children[c].count == 0 ? bvh.wideEntryOf(children[c].child) : kInvalidId};
       const BvhPrim prim = BvhPrim::make(children[c].bounds, at);
       if (c == 0) {
         opened_[at] = child;
@@ -249,18 +251,24 @@ bool TopLevelBvh::intersectRef(const Ref& ref, InstanceEntry& enter, const Ray& 
   // An identity instance's object ray is the world ray: its box-test constants are `box`'s
   // (Bvh4Ray from the same origin, direction, reciprocals and tnear), not made again per entry.
   ObjectRay& objectRay = enter.identityRay(inst, hit.t < ray.tfar ? hit.t : ray.tfar);
-  return static_cast<const BvhAccel&>(*inst.accel)
-      .intersectSubtree(objectRay, box, hit, ref.child, ref.count, ctx);
+  const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+  if (ref.wide != kInvalidId) return bvh.intersectWideSubtree(objectRay, box, hit, ref.wide, ctx);
+  return bvh.intersectSubtree(objectRay, box, hit, ref.child, ref.count, ctx);
 }
 
 bool TopLevelBvh::occludedRef(const Ref& ref, InstanceEntry& enter, const Ray& ray,
                               const Bvh4Ray& box, TraversalContext& ctx) const {
   const InstanceRecord& inst = instances_[ref.instance];
-  const bool blocked =
-      ref.child == kInvalidId
-          ? enter.occluded(inst, ctx)
-          : static_cast<const BvhAccel&>(*inst.accel)
-                .occludedSubtree(enter.identityRay(inst, ray.tfar), box, ref.child, ref.count, ctx);
+  bool blocked = false;
+  if (ref.child == kInvalidId) {
+    blocked = enter.occluded(inst, ctx);
+  } else {
+    const auto& bvh = static_cast<const BvhAccel&>(*inst.accel);
+    const ObjectRay& objectRay = enter.identityRay(inst, ray.tfar);
+    blocked = ref.wide != kInvalidId
+                  ? bvh.occludedWideSubtree(objectRay, box, ref.wide, ctx)
+                  : bvh.occludedSubtree(objectRay, box, ref.child, ref.count, ctx);
+  }
   if (blocked) rememberOccluder(ref.instance, ctx);
   return blocked;
 }

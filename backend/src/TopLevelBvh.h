@@ -80,6 +80,9 @@ class TopLevelBvh final : public TopLevelAccel {
     std::uint32_t instance = 0;        ///< index of the instance record
     std::uint32_t child = kInvalidId;  ///< the subtree (BvhSubtree); kInvalidId: whole instance
     std::uint32_t count = 0;
+    /// The node of the instance's eight-wide tree that stands for inner subtree `child`
+    /// (BvhAccel::wideEntryOf), which single rays walk; kInvalidId: walk the BVH4.
+    std::uint32_t wide = kInvalidId;
     /// The part of the instance's BVH this entry enters: its root for a whole instance.
     BvhSubtree subtree() const {
       return child == kInvalidId ? BvhSubtree{} : BvhSubtree{{}, child, count};

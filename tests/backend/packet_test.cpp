@@ -266,9 +266,14 @@ BOOST_AUTO_TEST_CASE(packets_of_every_octant_equal_single_rays) {
         const Comparison c = compareWithSingleRays(*scenes[s], rays);
         BOOST_TEST(c.mismatches == 0u, label << ": " << c.firstMismatch);
         BOOST_TEST(c.hits > c.rays / 10, label << ": too few hits to mean anything");
+        // Single rays walk eight-wide trees where the CPU runs AVX2, so each of their visits
+        // tests as many boxes as two of a packet's: a packet walk that fell back to single
+        // rays would count as many visits as they do, one that runs fewer than two thirds.
         if (cs[s].options.topLevel == TopLevelKind::Bvh &&
             cs[s].options.staticAccel != AccelKind::SahKdTree)
-          BOOST_TEST(c.packetNodeVisits * 2 < c.singleNodeVisits, label);
+          BOOST_TEST(c.packetNodeVisits * 3 < c.singleNodeVisits * 2,
+                     label << ": " << c.packetNodeVisits << " packet visits, " << c.singleNodeVisits
+                           << " single-ray visits");
       }
     }
   }
