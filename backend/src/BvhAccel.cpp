@@ -171,10 +171,12 @@ void BvhAccel::build(const TriangleMesh& mesh) {
   // opened into the top level) walk an eight-wide copy of it where the CPU runs AVX2: half the
   // node visits at eight boxes per test. One thread, 640x480, alternating processes, against
   // the BVH4: the flattened BART kitchen from its camera 54.3 -> 48.6 ms, the flattened robots
-  // 55.0 -> 52.1, the instanced robots (661 rigid parts) 60.9-61.0 -> 59.3-59.6; walks entered
-  // at a subtree (the static chunks' braided into the top level) keep the BVH4, where the wide
-  // walk's set-up cost what its fewer visits saved. Refitted (Morton) trees have none: buildSah
-  // makes the copy beside the leaf rows.
+  // 55.0 -> 52.1, the instanced robots (661 rigid parts) 60.9-61.0 -> 59.3-59.6 (with twins
+  // opened from the root; the smallest-cost collapse of buildBvh8 took the kitchen's visits
+  // per ray from 9.26 to 7.80). Walks entered at a subtree of the first levels (the static
+  // chunks' braided into the top level) take it too, from the wide nodes buildBvh8 gives those
+  // subtrees (wideEntries_): 8.70 -> 7.50 visits per ray from the kitchen's camera. Refitted
+  // (Morton) trees have none: buildSah makes the copy beside the leaf rows.
   wide_.clear();
   wideEntries_.clear();
   if (kind_ == AccelKind::BvhFast) {
@@ -250,13 +252,14 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   }
 
   // The leaf rows and the eight-wide copy only read the tree, so they are made side by side:
-  // the collapse into the eight-wide copy is serial, and made after the rows it kept one thread
-  // busy while the other waited (the flattened BART kitchen on two threads: 2.1 ms of a 17 ms
-  // build, after 1.5 ms of rows; 1.066 instead of 1.097 of Embree MEDIUM's time, medians of
-  // six alternating processes). The trim stays before them: with the large node array still
-  // held, the rows and the copy went to fresh pages, whose first touch cost about 12 us each on
-  // the same virtual machine (on one thread, in most processes: 77-115 ms per build instead of
-  // 30, with about 4,000 more page faults each).
+  // made after the rows, the twins' serial collapse kept one thread busy while the other
+  // waited (the flattened BART kitchen on two threads: 2.1 ms of a 17 ms build, after 1.5 ms
+  // of rows; 1.066 instead of 1.097 of Embree MEDIUM's time, medians of six alternating
+  // processes). The smallest-cost collapse that replaced them takes about 7 ms of one thread
+  // for that kitchen, in parallel tasks for the most part. The trim stays before them: with the
+  // large node array still held, the rows and the copy went to fresh pages, whose first touch cost
+  // about 12 us each on the same virtual machine (on one thread, in most processes: 77-115 ms per
+  // build instead of 30, with about 4,000 more page faults each).
   const std::size_t refs = prims_.size();
   primIds_.resize(refs);
   // Decided here, on the calling thread, not on whichever thread runs the copy.
@@ -388,6 +391,7 @@ void BvhAccel::finishStats() {
   stats_.nodes = nodes_.size() + stats_.leaves;
   stats_.wideNodes = wide_.size();
   stats_.bytes = nodes_.capacity() * sizeof(Bvh4Node) + wide_.capacity() * sizeof(Bvh8Node) +
+                 wideEntries_.capacity() * sizeof(Bvh8Entry) +
                  triangles_.capacity() * sizeof(TriangleVertices) +
                  leafRows_.capacity() * sizeof(float) + leafLanes_.capacity() +
                  primIds_.capacity() * sizeof(std::uint32_t) +
@@ -527,9 +531,9 @@ bool BvhAccel::intersectWhole(ObjectRay& ray, const Bvh4Ray& boxRay, Hit& hit,
 }
 
 std::uint32_t BvhAccel::wideEntryOf(std::uint32_t node) const {
-  const auto it = std::lower_bound(
-      wideEntries_.begin(), wideEntries_.end(), node,
-      [](const Bvh8Entry& e, std::uint32_t n) { return e.bvh4Node < n; });
+  const auto it =
+      std::lower_bound(wideEntries_.begin(), wideEntries_.end(), node,
+                       [](const Bvh8Entry& e, std::uint32_t n) { return e.bvh4Node < n; });
   return it != wideEntries_.end() && it->bvh4Node == node ? it->wideNode : kInvalidId;
 }
 
@@ -553,7 +557,9 @@ bool BvhAccel::occludedWideSubtree(const ObjectRay& ray, const Bvh4Ray& boxRay,
 #if TG_BVH8_WALK
   return traverseWideBvh8<true>(
       wide_, boxRay, ray.tfar, ctx.nodeVisits,
-      [&](std::uint32_t first, std::uint32_t count) { return occludedLeaf(ray, first, count, ctx); },
+      [&](std::uint32_t first, std::uint32_t count) {
+        return occludedLeaf(ray, first, count, ctx);
+      },
       wideNode);
 #else
   (void)ray, (void)boxRay, (void)wideNode, (void)ctx;
