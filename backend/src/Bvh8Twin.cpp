@@ -3,7 +3,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
 #include <bit>
 #include <limits>
 #include <vector>
@@ -184,8 +183,9 @@ class WideCollapse {
   }
 
   /// Solves the parts of node `i`'s subtree, children before parents; the subtrees of the first
-  /// kParallelLevels levels in parallel (they share no parts). On one thread the flattened BART
-  /// kitchen's collapse took about 5 ms, twice the binned build's leaf rows beside it.
+  /// kParallelLevels levels in parallel (they share no parts). On one thread the programme took
+  /// 3.5-5 ms of the flattened BART kitchen's 6-8 ms collapse, against 3.5 ms for the leaf rows
+  /// made beside it.
   void solveSubtree(std::uint32_t i, int depth) {
     const Bvh4Node& n = nodes_[i];
     std::uint32_t inner[4];
@@ -253,7 +253,7 @@ class WideCollapse {
       writeSlots(&slot, 1, wide[0]);
       return;
     }
-    appendTree(root, wide);
+    appendNode(root, wide);
     if (entries == nullptr) return;
     // Children are numbered after their parents, so a walk forwards meets parents first, and
     // the entries come out sorted.
@@ -264,7 +264,7 @@ class WideCollapse {
       const unsigned mask = usedMask(nodes_[i]);
       const auto node = static_cast<std::uint32_t>(i);
       if (!atMostOneSlot(mask))
-        entries->push_back(Bvh8Entry{node, appendNode(Part{node, mask}, wide, Emission{})});
+        entries->push_back(Bvh8Entry{node, appendNode(Part{node, mask}, wide)});
       for (int s = 0; s < 4; ++s)
         if (nodes_[i].isInner(s))
           depth[nodes_[i].child[s]] = static_cast<std::uint8_t>(depth[i] + 1);
@@ -276,10 +276,9 @@ class WideCollapse {
   /// BVH4 levels whose subtrees solveSubtree solves as parallel tasks.
   static constexpr int kParallelLevels = 3;
 
-  /// What the programme keeps for one part of two or more slots.
-  /// Left unwritten until solved (the array is as large as the BVH4), except `mask`.
-  /// Forty-eight bytes (eighty with the halves kept as Parts): the array is as large as the
-  /// BVH4, written once per build and read again by the emission.
+  /// What the programme keeps for one part of two or more slots, left unwritten until solved
+  /// except `mask`. Forty-eight bytes (eighty with the halves kept as Parts), three per BVH4
+  /// node: the array is written once per build and read again by the emission.
   struct PartCosts {
     /// cost[i - 1]: the cheapest node cost of its subtree with at most i roots.
     float cost[kWidth];
@@ -388,68 +387,12 @@ class WideCollapse {
     roots(c.half(1), i - k, out, n);
   }
 
-  /// A subtree of the wide tree that a task of appendTree appends to an array of its own.
-  struct Subtree {
-    Part part;
-    std::uint32_t parent = 0;  ///< the wide node whose slot `slot` holds it
-    int slot = 0;
-    Bvh8NodeArray nodes;
-    /// The parts it appended, whose entries in emitted_ index `nodes` until merged.
-    std::vector<std::uint32_t> parts;
-    std::uint32_t base = 0;  ///< where `nodes` go in the whole tree
-  };
-
-  /// Where appendNode puts the wide nodes of inner children: in the same array, depth first,
-  /// or, `levels` levels below the node it is given, in `deferred` for tasks of their own. The
-  /// parts appended are listed in `appended` when given.
-  struct Emission {
-    int levels = -1;  ///< -1: never defer
-    std::vector<Subtree>* deferred = nullptr;
-    std::vector<std::uint32_t>* appended = nullptr;
-  };
-
-  /// Trees of at least this many BVH4 nodes are appended by parallel tasks (appendTree).
-  static constexpr std::size_t kParallelAppendNodes = 4096;
-
-  /// Appends the wide tree from `root`: its first two levels here, the subtrees below them as
-  /// parallel tasks into arrays of their own, which are then copied after them in order. On one
-  /// thread the flattened BART kitchen's nodes took as long to append as the programme took to
-  /// solve (3.3-4.1 ms against 3.9-4.0), with the second thread idle once the leaf rows beside
-  /// the collapse were written.
-  void appendTree(const Part& root, Bvh8NodeArray& wide) {
-    if (nodes_.size() < kParallelAppendNodes) {
-      appendNode(root, wide, Emission{});
-      return;
-    }
-    std::vector<Subtree> subtrees;
-    appendNode(root, wide, Emission{1, &subtrees, nullptr});
-    tbb::parallel_for(std::size_t{0}, subtrees.size(), [&](std::size_t t) {
-      Subtree& sub = subtrees[t];
-      appendNode(sub.part, sub.nodes, Emission{-1, nullptr, &sub.parts});
-    });
-    auto total = static_cast<std::uint32_t>(wide.size());
-    for (Subtree& sub : subtrees) {
-      sub.base = total;
-      total += static_cast<std::uint32_t>(sub.nodes.size());
-    }
-    wide.resize(total);
-    tbb::parallel_for(std::size_t{0}, subtrees.size(), [&](std::size_t t) {
-      const Subtree& sub = subtrees[t];
-      for (std::size_t i = 0; i < sub.nodes.size(); ++i) {
-        Bvh8Node node = sub.nodes[i];
-        for (int s = 0; s < kWidth; ++s)
-          if (node.count[s] == 0 && node.child[s] != kInvalidId) node.child[s] += sub.base;
-        wide[sub.base + i] = node;
-      }
-      for (const std::uint32_t at : sub.parts) emitted_[at] += sub.base;
-    });
-    for (const Subtree& sub : subtrees) wide[sub.parent].child[sub.slot] = sub.base;
-  }
-
   /// Appends the wide node of part `p` (not a leaf) and then, depth first, those of its inner
-  /// children (as `emission` says); returns its index. A part appended before is not appended
-  /// again: its wide node is shared.
-  std::uint32_t appendNode(const Part& p, Bvh8NodeArray& wide, const Emission& emission) {
+  /// children; returns its index. A part appended before is not appended again: its wide node
+  /// is shared. On one thread the flattened BART kitchen's nodes took as long to append as the
+  /// programme took to solve (3.3-4.1 ms against 3.9-4.0), most of it waiting on memory (perf:
+  /// the loads of slot boxes and part records).
+  std::uint32_t appendNode(const Part& p, Bvh8NodeArray& wide) {
     const std::size_t at = indexOf(p);
     if (emitted_[at] != kInvalidId) return emitted_[at];
     Part children[kWidth];
@@ -474,21 +417,8 @@ class WideCollapse {
     const auto index = static_cast<std::uint32_t>(wide.size());
     wide.emplace_back();
     emitted_[at] = index;
-    if (emission.appended != nullptr) emission.appended->push_back(static_cast<std::uint32_t>(at));
-    const Emission below{emission.levels - 1, emission.deferred, emission.appended};
-    for (int s = 0; s < n; ++s) {
-      if (!inner[s]) continue;
-      if (emission.levels == 0) {
-        // Filled in once the task's nodes have their place (appendTree).
-        Subtree sub;
-        sub.part = children[s];
-        sub.parent = index;
-        sub.slot = s;
-        emission.deferred->push_back(std::move(sub));
-      } else {
-        slots[s].child = appendNode(children[s], wide, below);
-      }
-    }
+    for (int s = 0; s < n; ++s)
+      if (inner[s]) slots[s].child = appendNode(children[s], wide);
     writeSlots(slots, n, wide[index]);
     return index;
   }

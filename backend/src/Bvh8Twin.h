@@ -35,8 +35,7 @@ struct Bvh8Entry {
 inline constexpr int kBvh8EntryDepth = 3;
 
 /// Writes into `wide` an eight-wide BVH collapsed from `nodes`, root first, nodes depth first,
-/// each followed by its first inner child (in large trees: the first two levels, then the
-/// subtrees below them one after the other, each depth first). The collapse sees each BVH4 node as
+/// each followed by its first inner child. The collapse sees each BVH4 node as
 /// a binary tree (its slots paired as lowHalf in Bvh8Twin.cpp pairs them) and picks, by dynamic
 /// programming, the eight-wide tree over the same leaves whose nodes have the smallest summed
 /// surface area (Ylitie, Karras and Laine 2017): inner nodes mostly hold eight children, and

@@ -255,11 +255,11 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   // made after the rows, the twins' serial collapse kept one thread busy while the other
   // waited (the flattened BART kitchen on two threads: 2.1 ms of a 17 ms build, after 1.5 ms
   // of rows; 1.066 instead of 1.097 of Embree MEDIUM's time, medians of six alternating
-  // processes). The smallest-cost collapse that replaced them takes about 7 ms of one thread
-  // for that kitchen, in parallel tasks for the most part. The trim stays before them: with the
-  // large node array still held, the rows and the copy went to fresh pages, whose first touch cost
-  // about 12 us each on the same virtual machine (on one thread, in most processes: 77-115 ms per
-  // build instead of 30, with about 4,000 more page faults each).
+  // processes). The smallest-cost collapse that replaced them takes 6-8 ms of one thread for
+  // that kitchen: its programme runs in parallel tasks, its appending of nodes is serial. The trim
+  // stays before them: with the large node array still held, the rows and the copy went to fresh
+  // pages, whose first touch cost about 12 us each on the same virtual machine (on one thread, in
+  // most processes: 77-115 ms per build instead of 30, with about 4,000 more page faults each).
   const std::size_t refs = prims_.size();
   primIds_.resize(refs);
   // Decided here, on the calling thread, not on whichever thread runs the copy.
