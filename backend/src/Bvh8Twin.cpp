@@ -168,43 +168,48 @@ unsigned lowHalf(const Box3f (&box)[4], unsigned mask) {
   return (1u << slots[0]) | (1u << slots[partner]);
 }
 
-/// The collapse of a BVH4 into the eight-wide tree of the smallest SAH node cost (the summed
-/// surface areas of its nodes; the leaves are the BVH4's in every collapse), by the dynamic
-/// programme of Ylitie, Karras and Laine, "Efficient Incoherent Ray Traversal on GPUs Through
-/// Compressed Wide BVHs" (2017), over the binary tree of parts: for every part and every budget
-/// i of 1 to 8, the cheapest way to stand for its subtree with at most i children of the
-/// enclosing wide node, either as one wide node of its own or spread over the roots of its two
-/// halves.
-class WideCollapse {
+constexpr int kWidth = 8;
+
+/// Half `h` of a solved part.
+Part halfOf(const Bvh8PartCosts& c, int h) {
+  return Part{c.halfNode[h], c.halfMask[h] & 15u, (c.halfMask[h] & 16u) != 0};
+}
+
+void setHalves(Bvh8PartCosts& c, const Part& first, const Part& second) {
+  c.halfNode[0] = first.node;
+  c.halfNode[1] = second.node;
+  c.halfMask[0] = static_cast<std::uint8_t>(first.mask | (first.leaf ? 16u : 0u));
+  c.halfMask[1] = static_cast<std::uint8_t>(second.mask | (second.leaf ? 16u : 0u));
+}
+
+/// Which of its node's three parts part `p` (of two or more slots, normalised) is.
+int partOf(const Bvh8PartCosts* nodeParts, const Part& p) {
+  if (nodeParts[0].mask == p.mask) return 0;
+  return nodeParts[1].mask == p.mask ? 1 : 2;
+}
+
+/// The record of part `p` (of two or more slots, normalised) of a solved plan.
+const Bvh8PartCosts& costsOf(const Bvh8CollapsePlan& plan, const Part& p) {
+  const Bvh8PartCosts* nodeParts = plan.partsOf(p.node);
+  return nodeParts[partOf(nodeParts, p)];
+}
+
+/// The dynamic programme of Ylitie, Karras and Laine, "Efficient Incoherent Ray Traversal on
+/// GPUs Through Compressed Wide BVHs" (2017), over the binary tree of parts: for every part and
+/// every budget i of 1 to 8, the cheapest way to stand for its subtree with at most i children
+/// of the enclosing wide node, either as one wide node of its own or spread over the roots of
+/// its two halves. The cost of a tree is the summed surface area of its wide nodes (the leaves
+/// are the BVH4's in every collapse).
+class PlanSolver {
  public:
-  explicit WideCollapse(const Bvh4NodeArray& nodes)
-      : nodes_(nodes), parts_(3 * nodes.size()), emitted_(3 * nodes.size(), kInvalidId) {
-    if (!nodes.empty()) solveSubtree(0, 0);
-  }
+  PlanSolver(const Bvh4NodeArray& nodes, const Bvh8CollapsePlan& plan)
+      : nodes_(nodes), plan_(plan) {}
 
-  /// Solves the parts of node `i`'s subtree, children before parents; the subtrees of the first
-  /// kParallelLevels levels in parallel (they share no parts). On one thread the programme took
-  /// 3.5-5 ms of the flattened BART kitchen's 6-8 ms collapse, against 3.5 ms for the leaf rows
-  /// made beside it.
-  void solveSubtree(std::uint32_t i, int depth) {
-    const Bvh4Node& n = nodes_[i];
-    std::uint32_t inner[4];
-    int count = 0;
-    for (int s = 0; s < 4; ++s)
-      if (n.isInner(s)) inner[count++] = n.child[s];
-    if (depth < kParallelLevels && count > 1) {
-      tbb::parallel_for(0, count, [&](int k) { solveSubtree(inner[k], depth + 1); });
-    } else {
-      for (int k = 0; k < count; ++k) solveSubtree(inner[k], depth + 1);
-    }
-    solveNode(i);
-  }
-
-  /// Solves the parts of node `i`, whose children are solved: the node's slots split in two
+  /// Solves the parts of node `node`, whose children are solved: the node's slots split in two
   /// (lowHalf), and each half of two slots split again; the halves keep slot order (the one
   /// holding the lowest slot comes first). The slot boxes are read once, for every split and
   /// area.
-  void solveNode(std::uint32_t node) {
+  void solveNode(std::uint32_t node) const {
     const std::size_t i = node;
     const Bvh4Node& n = nodes_[i];
     Box3f box[4];
@@ -214,11 +219,12 @@ class WideCollapse {
       mask |= 1u << s;
       box[s] = n.slotBounds(s);
     }
-    PartCosts& full = parts_[3 * i];
+    Bvh8PartCosts* const parts = plan_.partsOf(node);
+    Bvh8PartCosts& full = parts[0];
     full.mask = static_cast<std::uint8_t>(mask);
-    parts_[3 * i + 1].mask = 0;  // written below when this node has pairs
-    parts_[3 * i + 2].mask = 0;
-    if (atMostOneSlot(mask)) return;  // a root of one slot: see append()
+    parts[1].mask = 0;  // written below when this node has pairs
+    parts[2].mask = 0;
+    if (atMostOneSlot(mask)) return;  // a root of one slot: see WideCollapse::append()
     const unsigned low = lowHalf(box, mask);
     const Part first = normalised(nodes_, Part{node, low});
     const Part second = normalised(nodes_, Part{node, mask & ~low});
@@ -226,16 +232,83 @@ class WideCollapse {
     for (int h = 0; h < 2; ++h) {
       const unsigned half = h == 0 ? low : mask & ~low;
       if (atMostOneSlot(half)) continue;
-      PartCosts& pair = parts_[3 * i + 1 + h];
+      Bvh8PartCosts& pair = parts[1 + h];
       pair.mask = static_cast<std::uint8_t>(half);
       const unsigned lowest = half & (0u - half);
-      pair.setHalves(normalised(nodes_, Part{node, lowest}),
-                     normalised(nodes_, Part{node, half & ~lowest}));
-      solve(pair, unionOf(box, half).area(), pair.half(0), pair.half(1));
+      setHalves(pair, normalised(nodes_, Part{node, lowest}),
+                normalised(nodes_, Part{node, half & ~lowest}));
+      solve(pair, unionOf(box, half).area(), halfOf(pair, 0), halfOf(pair, 1));
     }
-    full.setHalves(first, second);
+    setHalves(full, first, second);
     solve(full, unionOf(box, mask).area(), first, second);
   }
+
+ private:
+  /// The costs of part `p` (normalised) for 1 to 8 roots in costs[1..8]: a leaf costs nothing.
+  void costsInto(const Part& p, float (&costs)[kWidth + 1]) const {
+    if (p.leaf) {
+      for (int i = 1; i <= kWidth; ++i) costs[i] = 0.0f;
+      return;
+    }
+    const Bvh8PartCosts& c = costsOf(plan_, p);
+    for (int i = 1; i <= kWidth; ++i) costs[i] = c.cost[i - 1];
+  }
+
+  /// The cheapest split of j roots between halves `firstHalf` and `secondHalf`, for j of 2 to
+  /// 8, and the roots the first half takes in each.
+  void spreadOf(const Part& firstHalf, const Part& secondHalf, float (&spread)[kWidth + 1],
+                std::uint8_t (&first)[kWidth + 1]) const {
+    float a[kWidth + 1], b[kWidth + 1];
+    costsInto(firstHalf, a);
+    costsInto(secondHalf, b);
+    for (int j = 2; j <= kWidth; ++j) {
+      // Without branches: which k wins is data the branch predictor cannot learn.
+      float best = a[1] + b[j - 1];
+      int bestK = 1;
+      for (int k = 2; k < j; ++k) {
+        const float sum = a[k] + b[j - k];
+        const bool better = sum < best;
+        bestK = better ? k : bestK;
+        best = better ? sum : best;
+      }
+      spread[j] = best;
+      first[j] = static_cast<std::uint8_t>(bestK);
+    }
+  }
+
+  /// Solves a part of box area `area` from the costs of its halves.
+  void solve(Bvh8PartCosts& c, float area, const Part& firstHalf, const Part& secondHalf) const {
+    float spread[kWidth + 1];
+    std::uint8_t first[kWidth + 1];
+    if (firstHalf.leaf && secondHalf.leaf) {
+      // Two leaves (most pairs): one root each whatever the budget.
+      for (int j = 2; j <= kWidth; ++j) {
+        spread[j] = 0.0f;
+        first[j] = 1;
+      }
+    } else {
+      spreadOf(firstHalf, secondHalf, spread, first);
+    }
+    const float own = area + spread[kWidth];
+    c.cost[0] = own;
+    std::uint32_t choices = std::uint32_t{first[kWidth]} << 21;
+    for (int i = 2; i <= kWidth; ++i) {
+      const bool isOwn = own <= spread[i];
+      c.cost[i - 1] = isOwn ? own : spread[i];
+      choices |= (isOwn ? 0u : std::uint32_t{first[i]}) << (3 * (i - 2));
+    }
+    c.choices = choices;
+  }
+
+  const Bvh4NodeArray& nodes_;
+  const Bvh8CollapsePlan& plan_;
+};
+
+/// The emission of the eight-wide tree that a solved plan describes.
+class WideCollapse {
+ public:
+  WideCollapse(const Bvh4NodeArray& nodes, const Bvh8CollapsePlan& plan)
+      : nodes_(nodes), plan_(plan), emitted_(3 * nodes.size(), kInvalidId) {}
 
   /// Appends the wide tree to `wide`, root first, and then, into `entries` (when given), the
   /// wide nodes of the BVH4 nodes of the first kBvh8EntryDepth levels below the root, sorted by
@@ -272,119 +345,20 @@ class WideCollapse {
   }
 
  private:
-  static constexpr int kWidth = 8;
-  /// BVH4 levels whose subtrees solveSubtree solves as parallel tasks.
-  static constexpr int kParallelLevels = 3;
-
-  /// What the programme keeps for one part of two or more slots, left unwritten until solved
-  /// except `mask`. Forty-eight bytes (eighty with the halves kept as Parts), three per BVH4
-  /// node: the array is written once per build and read again by the emission.
-  struct PartCosts {
-    /// cost[i - 1]: the cheapest node cost of its subtree with at most i roots.
-    float cost[kWidth];
-    /// Three bits per budget i of 2 to 8 (bits 3(i - 2) up): the roots given to the first half
-    /// when spread over i roots, 0 when one wide node of its own is cheaper; bits 21 to 23: the
-    /// roots of its first half when it is a wide node of its own (eight in all).
-    std::uint32_t choices;
-    /// Its halves (lowHalf), normalised: their nodes, then their masks with bit 4 set for a
-    /// leaf.
-    std::uint32_t halfNode[2];
-    std::uint8_t halfMask[2];
-    std::uint8_t mask;
-
-    int firstRoots(int i) const { return i < 2 ? 0 : (choices >> (3 * (i - 2))) & 7u; }
-    int ownFirst() const { return (choices >> 21) & 7u; }
-    Part half(int h) const {
-      return Part{halfNode[h], halfMask[h] & 15u, (halfMask[h] & 16u) != 0};
-    }
-    void setHalves(const Part& first, const Part& second) {
-      halfNode[0] = first.node;
-      halfNode[1] = second.node;
-      halfMask[0] = static_cast<std::uint8_t>(first.mask | (first.leaf ? 16u : 0u));
-      halfMask[1] = static_cast<std::uint8_t>(second.mask | (second.leaf ? 16u : 0u));
-    }
-  };
-  static_assert(sizeof(PartCosts) == 48);
-
-  /// Where part `p` (of two or more slots, normalised) sits in parts_.
-  std::size_t indexOf(const Part& p) const {
-    const std::size_t at = 3 * std::size_t{p.node};
-    if (parts_[at].mask == p.mask) return at;
-    return parts_[at + 1].mask == p.mask ? at + 1 : at + 2;
-  }
-
-  const PartCosts& costsOf(const Part& p) const { return parts_[indexOf(p)]; }
-
-  /// The costs of part `p` (normalised) for 1 to 8 roots in costs[1..8]: a leaf costs nothing.
-  void costsInto(const Part& p, float (&costs)[kWidth + 1]) const {
-    if (p.leaf) {
-      for (int i = 1; i <= kWidth; ++i) costs[i] = 0.0f;
-      return;
-    }
-    const PartCosts& c = costsOf(p);
-    for (int i = 1; i <= kWidth; ++i) costs[i] = c.cost[i - 1];
-  }
-
-  /// The cheapest split of j roots between halves `firstHalf` and `secondHalf`, for j of 2 to
-  /// 8, and the roots the first half takes in each.
-  void spreadOf(const Part& firstHalf, const Part& secondHalf, float (&spread)[kWidth + 1],
-                std::uint8_t (&first)[kWidth + 1]) const {
-    float a[kWidth + 1], b[kWidth + 1];
-    costsInto(firstHalf, a);
-    costsInto(secondHalf, b);
-    for (int j = 2; j <= kWidth; ++j) {
-      // Without branches: which k wins is data the branch predictor cannot learn.
-      float best = a[1] + b[j - 1];
-      int bestK = 1;
-      for (int k = 2; k < j; ++k) {
-        const float sum = a[k] + b[j - k];
-        const bool better = sum < best;
-        bestK = better ? k : bestK;
-        best = better ? sum : best;
-      }
-      spread[j] = best;
-      first[j] = static_cast<std::uint8_t>(bestK);
-    }
-  }
-
-  /// Solves a part of box area `area` from the costs of its halves.
-  void solve(PartCosts& c, float area, const Part& firstHalf, const Part& secondHalf) const {
-    float spread[kWidth + 1];
-    std::uint8_t first[kWidth + 1];
-    if (firstHalf.leaf && secondHalf.leaf) {
-      // Two leaves (most pairs): one root each whatever the budget.
-      for (int j = 2; j <= kWidth; ++j) {
-        spread[j] = 0.0f;
-        first[j] = 1;
-      }
-    } else {
-      spreadOf(firstHalf, secondHalf, spread, first);
-    }
-    const float own = area + spread[kWidth];
-    c.cost[0] = own;
-    std::uint32_t choices = std::uint32_t{first[kWidth]} << 21;
-    for (int i = 2; i <= kWidth; ++i) {
-      const bool isOwn = own <= spread[i];
-      c.cost[i - 1] = isOwn ? own : spread[i];
-      choices |= (isOwn ? 0u : std::uint32_t{first[i]}) << (3 * (i - 2));
-    }
-    c.choices = choices;
-  }
-
   /// The roots that stand for part `p` with at most `i` of them, in slot order.
   void roots(const Part& p, int i, Part* out, int& n) const {
     if (p.leaf) {
       out[n++] = p;
       return;
     }
-    const PartCosts& c = costsOf(p);
+    const Bvh8PartCosts& c = costsOf(plan_, p);
     const int k = c.firstRoots(i);
     if (k == 0) {
       out[n++] = p;
       return;
     }
-    roots(c.half(0), k, out, n);
-    roots(c.half(1), i - k, out, n);
+    roots(halfOf(c, 0), k, out, n);
+    roots(halfOf(c, 1), i - k, out, n);
   }
 
   /// Appends the wide node of part `p` (not a leaf) and then, depth first, those of its inner
@@ -393,15 +367,17 @@ class WideCollapse {
   /// programme took to solve (3.3-4.1 ms against 3.9-4.0), most of it waiting on memory (perf:
   /// the loads of slot boxes and part records).
   std::uint32_t appendNode(const Part& p, Bvh8NodeArray& wide) {
-    const std::size_t at = indexOf(p);
+    const Bvh8PartCosts* const nodeParts = plan_.partsOf(p.node);
+    const int part = partOf(nodeParts, p);
+    const std::size_t at = 3 * std::size_t{p.node} + static_cast<std::size_t>(part);
     if (emitted_[at] != kInvalidId) return emitted_[at];
     Part children[kWidth];
     int n = 0;
     // A wide node of its own spreads its halves over its eight slots.
-    const PartCosts& c = parts_[at];
+    const Bvh8PartCosts& c = nodeParts[part];
     const int k = c.ownFirst();
-    roots(c.half(0), k, children, n);
-    roots(c.half(1), kWidth - k, children, n);
+    roots(halfOf(c, 0), k, children, n);
+    roots(halfOf(c, 1), kWidth - k, children, n);
     Slot slots[kWidth];
     bool inner[kWidth];
     for (int s = 0; s < n; ++s) {
@@ -424,23 +400,81 @@ class WideCollapse {
   }
 
   const Bvh4NodeArray& nodes_;
-  /// Three per BVH4 node: the node, then its pairs.
-  std::vector<PartCosts, UninitializedAllocator<PartCosts>> parts_;
-  /// Per part (as parts_): the index of its wide node once appended, else kInvalidId.
+  const Bvh8CollapsePlan& plan_;
+  /// Per part, three per BVH4 node in the plan's order: the index of its wide node once
+  /// appended, else kInvalidId.
   std::vector<std::uint32_t> emitted_;
 };
 
+/// BVH4 levels whose subtrees Bvh8CollapsePlan::solveTree solves as parallel tasks.
+constexpr int kParallelLevels = 3;
+
 }  // namespace
 
-void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide, std::vector<Bvh8Entry>* entries) {
+Bvh8CollapsePlan::~Bvh8CollapsePlan() {
+  release();
+}
+
+void Bvh8CollapsePlan::release() {
+  for (std::size_t b = 0; b < blockCount_; ++b) delete[] blocks_[b].load(std::memory_order_relaxed);
+  blocks_.reset();
+  blockCount_ = 0;
+}
+
+void Bvh8CollapsePlan::reset(std::size_t maxNodes) {
+  release();
+  blockCount_ = (maxNodes + kNodesPerBlock - 1) / kNodesPerBlock;
+  blocks_ = std::make_unique<std::atomic<Bvh8PartCosts*>[]>(blockCount_);
+  for (std::size_t b = 0; b < blockCount_; ++b)
+    blocks_[b].store(nullptr, std::memory_order_relaxed);
+}
+
+void Bvh8CollapsePlan::nodeBuilt(const Bvh4NodeArray& nodes, std::uint32_t index) {
+  std::atomic<Bvh8PartCosts*>& block = blocks_[index / kNodesPerBlock];
+  if (block.load(std::memory_order_acquire) == nullptr) {
+    // Two threads may solve the first nodes of one block at once: one allocation wins.
+    auto* fresh = new Bvh8PartCosts[3 * kNodesPerBlock];
+    Bvh8PartCosts* expected = nullptr;
+    if (!block.compare_exchange_strong(expected, fresh, std::memory_order_acq_rel)) delete[] fresh;
+  }
+  PlanSolver(nodes, *this).solveNode(index);
+}
+
+void Bvh8CollapsePlan::solveTree(const Bvh4NodeArray& nodes) {
+  reset(nodes.size());
+  if (!nodes.empty()) solveSubtree(nodes, 0, 0);
+}
+
+void Bvh8CollapsePlan::solveSubtree(const Bvh4NodeArray& nodes, std::uint32_t index, int depth) {
+  const Bvh4Node& n = nodes[index];
+  std::uint32_t inner[4];
+  int count = 0;
+  for (int s = 0; s < 4; ++s)
+    if (n.isInner(s)) inner[count++] = n.child[s];
+  // The subtrees of the first levels share no parts: they are solved side by side.
+  if (depth < kParallelLevels && count > 1) {
+    tbb::parallel_for(0, count, [&](int k) { solveSubtree(nodes, inner[k], depth + 1); });
+  } else {
+    for (int k = 0; k < count; ++k) solveSubtree(nodes, inner[k], depth + 1);
+  }
+  nodeBuilt(nodes, index);
+}
+
+void buildBvh8(const Bvh4NodeArray& nodes, const Bvh8CollapsePlan& plan, Bvh8NodeArray& wide,
+               std::vector<Bvh8Entry>* entries) {
   wide.clear();
   if (entries != nullptr) entries->clear();
   if (nodes.empty()) return;
   wide.reserve(nodes.size());
-  WideCollapse collapse(nodes);
-  collapse.append(wide, entries);
+  WideCollapse(nodes, plan).append(wide, entries);
   // A static tree is kept for many frames: hold what it uses.
   wide.shrink_to_fit();
+}
+
+void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide, std::vector<Bvh8Entry>* entries) {
+  Bvh8CollapsePlan plan;
+  plan.solveTree(nodes);
+  buildBvh8(nodes, plan, wide, entries);
 }
 
 void buildBvh8BelowRoot(const Bvh4NodeArray& nodes, Bvh4Node& root, Bvh8NodeArray& wide) {

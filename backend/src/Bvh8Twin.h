@@ -2,10 +2,13 @@
 // instruction (Bvh8Walk.h). Internal header: not installed.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "Bvh4.h"
+#include "BvhBuilder.h"
 
 namespace tg::detail {
 
@@ -49,6 +52,75 @@ inline constexpr int kBvh8EntryDepth = 3;
 /// depend on where the part sits). Walks from the root thus keep the smallest-cost tree, and a
 /// top level that enters a subtree walks it eight-wide as well, for a few extra nodes.
 void buildBvh8(const Bvh4NodeArray& nodes, Bvh8NodeArray& wide,
+               std::vector<Bvh8Entry>* entries = nullptr);
+
+/// What the collapse's programme keeps for one part of a BVH4 node (its used slots, or a pair
+/// of them): three per node, the node's slots first, then its pairs. Forty-eight bytes (eighty
+/// with the halves kept as whole parts): the programme writes them once and the emission of
+/// the wide nodes reads them again.
+struct Bvh8PartCosts {
+  /// cost[i - 1]: the cheapest node cost of the part's subtree with at most i roots.
+  float cost[8];
+  /// Three bits per budget i of 2 to 8 (bits 3(i - 2) up): the roots given to the first half
+  /// when spread over i roots, 0 when one wide node of its own is cheaper; bits 21 to 23: the
+  /// roots of its first half when it is a wide node of its own (eight in all).
+  std::uint32_t choices;
+  /// Its halves, normalised to a node's used slots or a leaf slot: their nodes, then their
+  /// masks with bit 4 set for a leaf.
+  std::uint32_t halfNode[2];
+  std::uint8_t halfMask[2];
+  /// The part's slots; 0 for a pair slot that the node does not have.
+  std::uint8_t mask;
+
+  /// Roots of the first half when the part is spread over `i` roots (0: a node of its own).
+  int firstRoots(int i) const { return i < 2 ? 0 : (choices >> (3 * (i - 2))) & 7u; }
+  /// Roots of the first half when the part is a wide node of its own.
+  int ownFirst() const { return (choices >> 21) & 7u; }
+};
+
+/// The collapse's dynamic programme, solved node by node while the BVH4 is built (as its
+/// Bvh4BuildListener) or over a finished tree (solveTree), children before parents. Solved in
+/// the builder's tasks, each node is read while its thread still holds it in cache: as a pass
+/// of its own after the build, the flattened BART kitchen's programme took 2.7-3.1 ms of a
+/// two-thread build (see BvhAccel::buildSah).
+///
+/// The parts are kept in blocks of kNodesPerBlock nodes, allocated as the first node of each
+/// is solved: a build does not know its node count until it ends, and one array for the worst
+/// case (as many nodes as primitives, five times what SAH trees use) came from fresh pages on
+/// every build of the BART kitchen, about 600 page faults each; blocks of this size are reused
+/// by the allocator.
+class Bvh8CollapsePlan final : public Bvh4BuildListener {
+ public:
+  Bvh8CollapsePlan() = default;
+  ~Bvh8CollapsePlan() override;
+  Bvh8CollapsePlan(const Bvh8CollapsePlan&) = delete;
+  Bvh8CollapsePlan& operator=(const Bvh8CollapsePlan&) = delete;
+
+  /// Forgets every solved node and makes room for trees of up to `maxNodes` nodes.
+  void reset(std::size_t maxNodes);
+  /// Solves the parts of node `index` (below the `maxNodes` of reset), whose children are
+  /// solved. Safe to call from several threads at once for different nodes.
+  void nodeBuilt(const Bvh4NodeArray& nodes, std::uint32_t index) override;
+  /// Solves every node of the finished tree `nodes` (its first levels' subtrees in parallel).
+  void solveTree(const Bvh4NodeArray& nodes);
+  /// The three parts of a solved node: its used slots, then its pairs.
+  Bvh8PartCosts* partsOf(std::uint32_t node) const {
+    return blocks_[node / kNodesPerBlock].load(std::memory_order_acquire) +
+           3 * (node % kNodesPerBlock);
+  }
+
+ private:
+  /// Nodes per block: 72 KiB, below the size from which glibc maps fresh pages for every
+  /// allocation (128 KiB by default).
+  static constexpr std::uint32_t kNodesPerBlock = 512;
+  void solveSubtree(const Bvh4NodeArray& nodes, std::uint32_t index, int depth);
+  void release();
+  std::unique_ptr<std::atomic<Bvh8PartCosts*>[]> blocks_;
+  std::size_t blockCount_ = 0;
+};
+
+/// buildBvh8 from a plan already solved over every node of `nodes`.
+void buildBvh8(const Bvh4NodeArray& nodes, const Bvh8CollapsePlan& plan, Bvh8NodeArray& wide,
                std::vector<Bvh8Entry>* entries = nullptr);
 
 /// buildBvh8 below the root: writes into `wide` the eight-wide trees of the root's inner

@@ -234,7 +234,18 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   BvhBuildResult result;
   result.nodes.swap(nodes_);  // reuse the node memory of the previous build
   const BvhPrimBounds primBounds{summary.bounds, summary.centroids};
-  buildBvh4(prims_, options, result, &primBounds);
+  // Decided here, on the calling thread, not on whichever thread runs the copy.
+  const bool makeWide = TG_BVH8_WALK && activeSimdIsa() != SimdIsa::Portable;
+  // The eight-wide collapse's programme is solved as the builder finishes each node, on its
+  // thread and while the node is in its cache; only its nodes are appended after the build.
+  // As a pass of its own after the build, the programme's tasks read nodes that either thread
+  // had built: the flattened BART kitchen's took 2.7-3.1 ms on two threads against 3.0-3.1 on
+  // one, and its share of the build grew by 1.3 ms instead. Static build from its camera, two
+  // threads, four alternating process pairs: 16.3-17.2 -> 16.1-16.2 ms (Embree MEDIUM
+  // 13.1-13.7 ms).
+  Bvh8CollapsePlan plan;
+  if (makeWide) plan.reset(prims_.size());
+  buildBvh4(prims_, options, result, &primBounds, makeWide ? &plan : nullptr);
   nodes_.swap(result.nodes);
   // The builder reserves its worst case, one node per primitive; SAH trees with leaves of up to
   // four triangles use about a quarter of it (the BART kitchen flattened: 26.5k nodes for 110k
@@ -255,18 +266,16 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   // made after the rows, the twins' serial collapse kept one thread busy while the other
   // waited (the flattened BART kitchen on two threads: 2.1 ms of a 17 ms build, after 1.5 ms
   // of rows; 1.066 instead of 1.097 of Embree MEDIUM's time, medians of six alternating
-  // processes). The smallest-cost collapse that replaced them takes 6-8 ms of one thread for
-  // that kitchen: its programme runs in parallel tasks, its appending of nodes is serial. The trim
+  // processes). The smallest-cost collapse that replaced them appends its nodes serially here
+  // (2.2-2.5 ms on two threads for that kitchen, beside 1.8-2.5 ms of rows). The trim
   // stays before them: with the large node array still held, the rows and the copy went to fresh
   // pages, whose first touch cost about 12 us each on the same virtual machine (on one thread, in
   // most processes: 77-115 ms per build instead of 30, with about 4,000 more page faults each).
   const std::size_t refs = prims_.size();
   primIds_.resize(refs);
-  // Decided here, on the calling thread, not on whichever thread runs the copy.
-  const bool makeWide = TG_BVH8_WALK && activeSimdIsa() != SimdIsa::Portable;
   tbb::parallel_invoke(
       [&] {
-        if (makeWide) buildBvh8(nodes_, wide_, &wideEntries_);
+        if (makeWide) buildBvh8(nodes_, plan, wide_, &wideEntries_);
       },
       [&] {
         forEachIndex(refs, 4096, [&](std::size_t k) { primIds_[k] = prims_[k].id; });

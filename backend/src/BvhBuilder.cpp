@@ -219,12 +219,13 @@ struct RangeBounds {
 class Builder {
  public:
   Builder(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out,
-          const BvhPrimBounds* known)
+          const BvhPrimBounds* known, Bvh4BuildListener* listener)
       : prims_(prims),
         options_(options),
         bins_(std::clamp(options.bins, 2, BvhBuildOptions::kMaxBins)),
         out_(out),
-        known_(known) {}
+        known_(known),
+        listener_(listener) {}
 
   void build() {
     out_.leaves = 0;
@@ -251,6 +252,7 @@ class Builder {
       node.count[0] = static_cast<std::uint32_t>(root.count());
       tally.leaves = 1;
       tally.sah.addSlot(root.bounds.box(), double(options_.intersectionCost) * root.count());
+      if (listener_ != nullptr) listener_->nodeBuilt(out_.nodes, 0);
     } else {
       tally = buildNode(TreeNodes{*this}, 0, root, split, 0);
     }
@@ -522,6 +524,11 @@ class Builder {
           node.child[s] = treeIndex(node.child[s]);
       out_.nodes[treeIndex(i)] = node;
     }
+    // Local numbers put children after their parents, and so do the tree's: backwards, every
+    // node comes after its subtree.
+    if (listener_ != nullptr)
+      for (auto i = static_cast<std::uint32_t>(local.size()); i-- > 0;)
+        listener_->nodeBuilt(out_.nodes, treeIndex(i));
   }
 
   template <class Nodes>
@@ -597,6 +604,10 @@ class Builder {
     } else {
       for (int k = 0; k < innerCount; ++k) recurse(k);
     }
+    // A node of the tree's own numbering is final once its children are (those of a local
+    // subtree are told of as moveIntoTree places them).
+    if constexpr (std::is_same_v<Nodes, TreeNodes>)
+      if (listener_ != nullptr) listener_->nodeBuilt(out_.nodes, index);
     // The SAH sum in slot order, as refitBvh4 takes it.
     for (int c = 0, k = 0; c < n; ++c) {
       const Child& child = children[c];
@@ -616,14 +627,15 @@ class Builder {
   const int bins_;
   BvhBuildResult& out_;
   const BvhPrimBounds* known_;
+  Bvh4BuildListener* const listener_;
   std::atomic<std::uint32_t> nextNode_{0};
 };
 
 }  // namespace
 
 void buildBvh4(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out,
-               const BvhPrimBounds* known) {
-  Builder(prims, options, out, known).build();
+               const BvhPrimBounds* known, Bvh4BuildListener* listener) {
+  Builder(prims, options, out, known, listener).build();
 }
 
 namespace {

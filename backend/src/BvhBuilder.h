@@ -84,13 +84,28 @@ struct BvhPrimBounds {
   Box3f centroids;  ///< box of lower + upper of every primitive
 };
 
+/// Told of each node of a BVH4 under construction once its whole subtree is final, children
+/// before their parents, on the thread that finished it (several threads call at once, for
+/// disjoint subtrees). Work that runs bottom-up over the tree (the eight-wide collapse's
+/// programme, Bvh8Twin.h) thus meets each node while the builder's thread still holds it in
+/// its cache, instead of in a pass of its own afterwards.
+class Bvh4BuildListener {
+ public:
+  virtual ~Bvh4BuildListener() = default;
+  /// Node `index` of `nodes` and every node below it are written and will not change (other
+  /// nodes of `nodes` may still be under construction).
+  virtual void nodeBuilt(const Bvh4NodeArray& nodes, std::uint32_t index) = 0;
+};
+
 /// Builds a BVH4 over `prims` and reorders them so that every leaf's primitives are contiguous:
 /// a leaf slot (child, count) refers to prims[child, child + count). `out.nodes` keeps its
 /// capacity between builds, so per-frame rebuilds do not reallocate. Deterministic: the same
 /// input gives the same tree whatever the number of threads (only node numbering may differ).
-/// `known`, when given, holds the bounds of `prims` (see BvhPrimBounds).
+/// `known`, when given, holds the bounds of `prims` (see BvhPrimBounds). `listener`, when
+/// given, is told of every node (see Bvh4BuildListener); the tree has at most prims.size()
+/// nodes.
 void buildBvh4(BvhPrimArray& prims, const BvhBuildOptions& options, BvhBuildResult& out,
-               const BvhPrimBounds* known = nullptr);
+               const BvhPrimBounds* known = nullptr, Bvh4BuildListener* listener = nullptr);
 
 /// SAH cost of a BVH4: the expected cost of a ray that hits the root box, counting
 /// `traversalCost` per node visited and `intersectionCost` per primitive tested, with the

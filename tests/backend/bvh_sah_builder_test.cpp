@@ -1,9 +1,10 @@
 // The binned-SAH BVH4 builder on its own: tree structure (every primitive in exactly one leaf,
 // tight boxes, leaf sizes), awkward inputs (no primitive, one, equal centroids, point boxes),
 // the same tree whatever the thread count on the parallel paths (subtree tasks, subtrees
-// numbered on their own thread, the SAH cost gathered on the way), chunked partitions giving
-// the tree of serial ones, and the SSE bin mapping
-// agreeing with the scalar one the partition uses.
+// numbered on their own thread, the SAH cost gathered on the way), the listener told of every
+// node after its children (and the eight-wide collapse solved that way), chunked partitions
+// giving the tree of serial ones, and the SSE bin mapping agreeing with the scalar one the
+// partition uses.
 #define BOOST_TEST_MODULE bvh_sah_builder
 #include <boost/test/unit_test.hpp>
 
@@ -14,11 +15,13 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "Bvh4TreeWalk.h"
+#include "Bvh8Twin.h"
 #include "BvhBinning.h"
 #include "BvhBuilder.h"
 
@@ -224,6 +227,96 @@ BOOST_AUTO_TEST_CASE(the_callers_bounds_give_the_same_tree) {
     BOOST_TEST(sameBox(out[0].bounds, out[1].bounds));
     BOOST_TEST(out[0].sahCost == out[1].sahCost);
   }
+}
+
+/// Records what a build tells its listener: the order of the nodes and a copy of each as it
+/// was when told.
+class RecordingListener final : public Bvh4BuildListener {
+ public:
+  void nodeBuilt(const Bvh4NodeArray& nodes, std::uint32_t index) override {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    order.push_back(index);
+    seen.push_back(nodes[index]);
+  }
+  std::vector<std::uint32_t> order;
+  std::vector<Bvh4Node> seen;
+
+ private:
+  std::mutex mutex_;
+};
+
+BOOST_AUTO_TEST_CASE(listeners_hear_of_every_node_once_after_its_children) {
+  // The eight-wide collapse solves each node as the builder reports it, and needs its children
+  // solved and the node final by then: on the paths of two threads (nodes numbered in the tree
+  // and subtrees numbered on their own thread) and of one, and for a root that is a leaf.
+  const std::vector<Box3f> boxes = randomBoxes(30000, 23, 200.0f, 3.0f);
+  const std::vector<Box3f> one = {Box3f{{0, 0, 0}, {1, 1, 1}}};
+  for (const int threads : {1, 2}) {
+    for (const std::vector<Box3f>* input : {&boxes, &one}) {
+      BvhBuildOptions options;
+      options.parallelThreshold = 512;
+      BvhPrimArray prims;
+      for (std::size_t i = 0; i < input->size(); ++i)
+        prims.push_back(BvhPrim::make((*input)[i], static_cast<std::uint32_t>(i)));
+      BvhBuildResult out;
+      RecordingListener listener;
+      tbb::task_arena(threads).execute([&] { buildBvh4(prims, options, out, nullptr, &listener); });
+      const std::size_t n = out.nodes.size();
+      BOOST_TEST_REQUIRE(listener.order.size() == n);
+      std::vector<int> position(n, -1);
+      bool inRange = true, finalWhenTold = true;
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::uint32_t i = listener.order[k];
+        if (i >= n || position[i] >= 0) {
+          inRange = false;
+          break;
+        }
+        position[i] = static_cast<int>(k);
+        finalWhenTold =
+            finalWhenTold && std::memcmp(&listener.seen[k], &out.nodes[i], sizeof(Bvh4Node)) == 0;
+      }
+      BOOST_TEST_REQUIRE(inRange, "a node told of twice or outside the tree");
+      BOOST_TEST(finalWhenTold);
+      int childrenFirst = 0, inner = 0;
+      for (std::size_t i = 0; i < n; ++i)
+        for (int s = 0; s < 4; ++s)
+          if (out.nodes[i].isInner(s)) {
+            ++inner;
+            childrenFirst += position[out.nodes[i].child[s]] < position[i] ? 1 : 0;
+          }
+      BOOST_TEST(childrenFirst == inner);
+      BOOST_TEST((input == &one ? inner == 0 : inner > 1000));
+    }
+  }
+}
+
+BOOST_AUTO_TEST_CASE(a_plan_solved_during_the_build_gives_the_wide_tree_of_one_solved_after) {
+  // Bvh8CollapsePlan as the builder's listener, on two threads, against the plan solved over the
+  // finished tree: the same eight-wide nodes, bit for bit, and the same subtree entries.
+  const std::vector<Box3f> boxes = randomBoxes(40000, 29, 300.0f, 2.0f);
+  BvhBuildOptions options;
+  options.parallelThreshold = 1024;
+  BvhPrimArray prims;
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    prims.push_back(BvhPrim::make(boxes[i], static_cast<std::uint32_t>(i)));
+  BvhBuildResult out;
+  Bvh8CollapsePlan duringBuild;
+  duringBuild.reset(prims.size());
+  tbb::task_arena(2).execute([&] { buildBvh4(prims, options, out, nullptr, &duringBuild); });
+  Bvh8NodeArray wide[2];
+  std::vector<Bvh8Entry> entries[2];
+  buildBvh8(out.nodes, duringBuild, wide[0], &entries[0]);
+  buildBvh8(out.nodes, wide[1], &entries[1]);
+  BOOST_TEST_REQUIRE(wide[0].size() == wide[1].size());
+  BOOST_TEST(wide[0].size() > out.nodes.size() / 4);
+  BOOST_TEST(std::memcmp(wide[0].data(), wide[1].data(), wide[0].size() * sizeof(Bvh8Node)) == 0);
+  BOOST_TEST_REQUIRE(entries[0].size() == entries[1].size());
+  BOOST_TEST(!entries[0].empty());
+  bool sameEntries = true;
+  for (std::size_t k = 0; k < entries[0].size(); ++k)
+    sameEntries = sameEntries && entries[0][k].bvh4Node == entries[1][k].bvh4Node &&
+                  entries[0][k].wideNode == entries[1][k].wideNode;
+  BOOST_TEST(sameEntries);
 }
 
 BOOST_AUTO_TEST_CASE(chunked_partitions_give_the_serial_tree) {
