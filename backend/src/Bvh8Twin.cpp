@@ -3,6 +3,13 @@
 
 #include <tbb/parallel_for.h>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define TG_COLLAPSE_AVX2 1
+#else
+#define TG_COLLAPSE_AVX2 0
+#endif
+
 #include <bit>
 #include <limits>
 #include <vector>
@@ -194,6 +201,63 @@ const Bvh8PartCosts& costsOf(const Bvh8CollapsePlan& plan, const Part& p) {
   return nodeParts[partOf(nodeParts, p)];
 }
 
+#if TG_COLLAPSE_AVX2
+/// PlanSolver::solve with the budgets in the eight lanes of AVX registers (lane j - 1 for
+/// budget j): part `c` of box area `area` from its first half's costs a[1..8] for 1 to 8 roots
+/// and its second half's in b[8..15]; b[0..7] hold +inf, so that the load from b + 8 - k gives
+/// lane j the cost of j - k roots, and +inf where j - k < 1, where the sum never wins. Each lane
+/// adds and compares the same floats as the scalar loops and keeps the first of equal sums, so
+/// the answers are the same bits (Callgrind, the programme in a one-thread `tg-bench static` run
+/// of the BART kitchen: 128.6M -> 104.9M instructions). Compiled for AVX2: call it only where
+/// the CPU runs AVX2.
+[[gnu::target("avx2")]] void solveAvx2(const float* a, const float* b, float area,
+                                       Bvh8PartCosts& c) {
+  // The cheapest spread of j roots over the two halves, and the roots the first one takes.
+  __m256 spread = _mm256_add_ps(_mm256_set1_ps(a[1]), _mm256_loadu_ps(b + 8 - 1));
+  __m256i first = _mm256_set1_epi32(1);
+  for (int k = 2; k < kWidth; ++k) {
+    const __m256 sum = _mm256_add_ps(_mm256_set1_ps(a[k]), _mm256_loadu_ps(b + 8 - k));
+    const __m256 better = _mm256_cmp_ps(sum, spread, _CMP_LT_OQ);
+    spread = _mm256_blendv_ps(spread, sum, better);
+    first = _mm256_blendv_epi8(first, _mm256_set1_epi32(k), _mm256_castps_si256(better));
+  }
+  // A node of its own takes its box and the spread over all eight of its slots; budget 1 has
+  // no other choice (lane 0).
+  alignas(32) float spreadOut[8];
+  _mm256_store_ps(spreadOut, spread);
+  const float own = area + spreadOut[kWidth - 1];
+  const __m256 ownV = _mm256_set1_ps(own);
+  const __m256 isOwn =
+      _mm256_or_ps(_mm256_cmp_ps(ownV, spread, _CMP_LE_OQ),
+                   _mm256_castsi256_ps(_mm256_setr_epi32(-1, 0, 0, 0, 0, 0, 0, 0)));
+  _mm256_storeu_ps(c.cost, _mm256_blendv_ps(spread, ownV, isOwn));
+  // Three bits per budget of 2 to 8 (0 where a node of its own is cheaper), then the first
+  // half's roots in a node of its own.
+  const __m256i spreadRoots = _mm256_andnot_si256(_mm256_castps_si256(isOwn), first);
+  alignas(32) std::uint32_t bits[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(bits),
+                     _mm256_sllv_epi32(spreadRoots, _mm256_setr_epi32(0, 0, 3, 6, 9, 12, 15, 18)));
+  alignas(32) std::int32_t firstOut[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(firstOut), first);
+  c.choices = (bits[1] | bits[2] | bits[3] | bits[4] | bits[5] | bits[6] | bits[7]) |
+              static_cast<std::uint32_t>(firstOut[kWidth - 1]) << 21;
+}
+#endif
+
+/// True when this CPU runs solveAvx2.
+bool cpuRunsSolveAvx2() {
+#if TG_COLLAPSE_AVX2
+  // Also called from static initialisers (plans made before main): detect the CPU first.
+  static const bool runs = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return runs;
+#else
+  return false;
+#endif
+}
+
 /// The dynamic programme of Ylitie, Karras and Laine, "Efficient Incoherent Ray Traversal on
 /// GPUs Through Compressed Wide BVHs" (2017), over the binary tree of parts: for every part and
 /// every budget i of 1 to 8, the cheapest way to stand for its subtree with at most i children
@@ -245,7 +309,7 @@ class PlanSolver {
 
  private:
   /// The costs of part `p` (normalised) for 1 to 8 roots in costs[1..8]: a leaf costs nothing.
-  void costsInto(const Part& p, float (&costs)[kWidth + 1]) const {
+  void costsInto(const Part& p, float* costs) const {
     if (p.leaf) {
       for (int i = 1; i <= kWidth; ++i) costs[i] = 0.0f;
       return;
@@ -278,6 +342,17 @@ class PlanSolver {
 
   /// Solves a part of box area `area` from the costs of its halves.
   void solve(Bvh8PartCosts& c, float area, const Part& firstHalf, const Part& secondHalf) const {
+#if TG_COLLAPSE_AVX2
+    if (plan_.vectorSolve()) {
+      float a[kWidth + 1];
+      float b[2 * kWidth];  // +inf, then the second half's costs for 1 to 8 roots
+      costsInto(firstHalf, a);
+      for (int i = 0; i < kWidth; ++i) b[i] = std::numeric_limits<float>::infinity();
+      costsInto(secondHalf, b + kWidth - 1);
+      solveAvx2(a, b, area, c);
+      return;
+    }
+#endif
     float spread[kWidth + 1];
     std::uint8_t first[kWidth + 1];
     if (firstHalf.leaf && secondHalf.leaf) {
@@ -410,6 +485,12 @@ class WideCollapse {
 constexpr int kParallelLevels = 3;
 
 }  // namespace
+
+Bvh8CollapsePlan::Bvh8CollapsePlan() : vectorSolve_(cpuRunsSolveAvx2()) {}
+
+void Bvh8CollapsePlan::setVectorSolve(bool on) {
+  vectorSolve_ = on && cpuRunsSolveAvx2();
+}
 
 Bvh8CollapsePlan::~Bvh8CollapsePlan() {
   release();

@@ -91,7 +91,7 @@ struct Bvh8PartCosts {
 /// by the allocator.
 class Bvh8CollapsePlan final : public Bvh4BuildListener {
  public:
-  Bvh8CollapsePlan() = default;
+  Bvh8CollapsePlan();
   ~Bvh8CollapsePlan() override;
   Bvh8CollapsePlan(const Bvh8CollapsePlan&) = delete;
   Bvh8CollapsePlan& operator=(const Bvh8CollapsePlan&) = delete;
@@ -103,6 +103,11 @@ class Bvh8CollapsePlan final : public Bvh4BuildListener {
   void nodeBuilt(const Bvh4NodeArray& nodes, std::uint32_t index) override;
   /// Solves every node of the finished tree `nodes` (its first levels' subtrees in parallel).
   void solveTree(const Bvh4NodeArray& nodes);
+  /// Solve the programme's budgets eight at a time with AVX2 (`on`, the default where the CPU
+  /// runs AVX2) or one at a time; both give the same bits. For tests that compare the two.
+  void setVectorSolve(bool on);
+  /// Whether the budgets are solved eight at a time.
+  bool vectorSolve() const { return vectorSolve_; }
   /// The three parts of a solved node: its used slots, then its pairs.
   Bvh8PartCosts* partsOf(std::uint32_t node) const {
     return blocks_[node / kNodesPerBlock].load(std::memory_order_acquire) +
@@ -117,6 +122,7 @@ class Bvh8CollapsePlan final : public Bvh4BuildListener {
   void release();
   std::unique_ptr<std::atomic<Bvh8PartCosts*>[]> blocks_;
   std::size_t blockCount_ = 0;
+  bool vectorSolve_;
 };
 
 /// buildBvh8 from a plan already solved over every node of `nodes`.

@@ -319,6 +319,41 @@ BOOST_AUTO_TEST_CASE(a_plan_solved_during_the_build_gives_the_wide_tree_of_one_s
   BOOST_TEST(sameEntries);
 }
 
+BOOST_AUTO_TEST_CASE(the_programme_solved_eight_budgets_at_a_time_gives_the_same_wide_tree) {
+  // Bvh8CollapsePlan solves the budgets in AVX2 lanes where the CPU runs AVX2: the same
+  // eight-wide nodes, bit for bit, as one budget at a time. A grid of equal cubes gives equal
+  // spreads over different budgets, which both must break alike (the first budget wins); random
+  // boxes of two sizes give the rest.
+  std::vector<Box3f> boxes = randomBoxes(20000, 31, 300.0f, 2.0f);
+  const std::vector<Box3f> large = randomBoxes(300, 37, 300.0f, 60.0f);
+  boxes.insert(boxes.end(), large.begin(), large.end());
+  for (int x = 0; x < 24; ++x)
+    for (int y = 0; y < 24; ++y)
+      for (int z = 0; z < 24; ++z) {
+        const Vec3f corner{400.0f + 2.0f * x, 2.0f * y, 2.0f * z};
+        boxes.push_back({corner, corner + Vec3f{1.0f, 1.0f, 1.0f}});
+      }
+  BvhPrimArray prims;
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    prims.push_back(BvhPrim::make(boxes[i], static_cast<std::uint32_t>(i)));
+  BvhBuildResult out;
+  buildBvh4(prims, BvhBuildOptions{}, out);
+  Bvh8CollapsePlan plans[2];
+  plans[0].setVectorSolve(false);
+  BOOST_TEST(!plans[0].vectorSolve());
+  if (!plans[1].vectorSolve()) {
+    BOOST_TEST_MESSAGE("no AVX2 on this CPU: both plans solve one budget at a time");
+  }
+  Bvh8NodeArray wide[2];
+  for (int k = 0; k < 2; ++k) {
+    plans[k].solveTree(out.nodes);
+    buildBvh8(out.nodes, plans[k], wide[k]);
+  }
+  BOOST_TEST_REQUIRE(wide[0].size() == wide[1].size());
+  BOOST_TEST(wide[0].size() > out.nodes.size() / 4);
+  BOOST_TEST(std::memcmp(wide[0].data(), wide[1].data(), wide[0].size() * sizeof(Bvh8Node)) == 0);
+}
+
 BOOST_AUTO_TEST_CASE(chunked_partitions_give_the_serial_tree) {
   // Large ranges are partitioned chunk by chunk, and the misplaced primitives trade places
   // afterwards. That changes the order within a side, never the sides: the tree must be the
