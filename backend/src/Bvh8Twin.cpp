@@ -178,11 +178,11 @@ unsigned lowHalf(const Box3f (&box)[4], unsigned mask) {
 constexpr int kWidth = 8;
 
 /// Half `h` of a solved part.
-Part halfOf(const Bvh8PartCosts& c, int h) {
+Part halfOf(const Bvh8PartChoice& c, int h) {
   return Part{c.halfNode[h], c.halfMask[h] & 15u, (c.halfMask[h] & 16u) != 0};
 }
 
-void setHalves(Bvh8PartCosts& c, const Part& first, const Part& second) {
+void setHalves(Bvh8PartChoice& c, const Part& first, const Part& second) {
   c.halfNode[0] = first.node;
   c.halfNode[1] = second.node;
   c.halfMask[0] = static_cast<std::uint8_t>(first.mask | (first.leaf ? 16u : 0u));
@@ -190,15 +190,20 @@ void setHalves(Bvh8PartCosts& c, const Part& first, const Part& second) {
 }
 
 /// Which of its node's three parts part `p` (of two or more slots, normalised) is.
-int partOf(const Bvh8PartCosts* nodeParts, const Part& p) {
+int partOf(const Bvh8PartChoice* nodeParts, const Part& p) {
   if (nodeParts[0].mask == p.mask) return 0;
   return nodeParts[1].mask == p.mask ? 1 : 2;
 }
 
 /// The record of part `p` (of two or more slots, normalised) of a solved plan.
-const Bvh8PartCosts& costsOf(const Bvh8CollapsePlan& plan, const Part& p) {
-  const Bvh8PartCosts* nodeParts = plan.partsOf(p.node);
+const Bvh8PartChoice& choiceOf(const Bvh8CollapsePlan& plan, const Part& p) {
+  const Bvh8PartChoice* nodeParts = plan.choicesOf(p.node);
   return nodeParts[partOf(nodeParts, p)];
+}
+
+/// The costs of part `p` (of two or more slots, normalised) of a solved plan.
+const Bvh8PartCosts& costsOf(const Bvh8CollapsePlan& plan, const Part& p) {
+  return plan.costsOf(p.node)[partOf(plan.choicesOf(p.node), p)];
 }
 
 #if TG_COLLAPSE_AVX2
@@ -211,7 +216,7 @@ const Bvh8PartCosts& costsOf(const Bvh8CollapsePlan& plan, const Part& p) {
 /// of the BART kitchen: 128.6M -> 104.9M instructions). Compiled for AVX2: call it only where
 /// the CPU runs AVX2.
 [[gnu::target("avx2")]] void solveAvx2(const float* a, const float* b, float area,
-                                       Bvh8PartCosts& c) {
+                                       Bvh8PartChoice& c, Bvh8PartCosts& costs) {
   // The cheapest spread of j roots over the two halves, and the roots the first one takes.
   __m256 spread = _mm256_add_ps(_mm256_set1_ps(a[1]), _mm256_loadu_ps(b + 8 - 1));
   __m256i first = _mm256_set1_epi32(1);
@@ -230,7 +235,7 @@ const Bvh8PartCosts& costsOf(const Bvh8CollapsePlan& plan, const Part& p) {
   const __m256 isOwn =
       _mm256_or_ps(_mm256_cmp_ps(ownV, spread, _CMP_LE_OQ),
                    _mm256_castsi256_ps(_mm256_setr_epi32(-1, 0, 0, 0, 0, 0, 0, 0)));
-  _mm256_storeu_ps(c.cost, _mm256_blendv_ps(spread, ownV, isOwn));
+  _mm256_storeu_ps(costs.cost, _mm256_blendv_ps(spread, ownV, isOwn));
   // Three bits per budget of 2 to 8 (0 where a node of its own is cheaper), then the first
   // half's roots in a node of its own.
   const __m256i spreadRoots = _mm256_andnot_si256(_mm256_castps_si256(isOwn), first);
@@ -283,8 +288,9 @@ class PlanSolver {
       mask |= 1u << s;
       box[s] = n.slotBounds(s);
     }
-    Bvh8PartCosts* const parts = plan_.partsOf(node);
-    Bvh8PartCosts& full = parts[0];
+    Bvh8PartChoice* const parts = plan_.choicesOf(node);
+    Bvh8PartCosts* const costs = plan_.costsOf(node);
+    Bvh8PartChoice& full = parts[0];
     full.mask = static_cast<std::uint8_t>(mask);
     parts[1].mask = 0;  // written below when this node has pairs
     parts[2].mask = 0;
@@ -296,15 +302,15 @@ class PlanSolver {
     for (int h = 0; h < 2; ++h) {
       const unsigned half = h == 0 ? low : mask & ~low;
       if (atMostOneSlot(half)) continue;
-      Bvh8PartCosts& pair = parts[1 + h];
+      Bvh8PartChoice& pair = parts[1 + h];
       pair.mask = static_cast<std::uint8_t>(half);
       const unsigned lowest = half & (0u - half);
       setHalves(pair, normalised(nodes_, Part{node, lowest}),
                 normalised(nodes_, Part{node, half & ~lowest}));
-      solve(pair, unionOf(box, half).area(), halfOf(pair, 0), halfOf(pair, 1));
+      solve(pair, costs[1 + h], unionOf(box, half).area(), halfOf(pair, 0), halfOf(pair, 1));
     }
     setHalves(full, first, second);
-    solve(full, unionOf(box, mask).area(), first, second);
+    solve(full, costs[0], unionOf(box, mask).area(), first, second);
   }
 
  private:
@@ -341,7 +347,8 @@ class PlanSolver {
   }
 
   /// Solves a part of box area `area` from the costs of its halves.
-  void solve(Bvh8PartCosts& c, float area, const Part& firstHalf, const Part& secondHalf) const {
+  void solve(Bvh8PartChoice& c, Bvh8PartCosts& costs, float area, const Part& firstHalf,
+             const Part& secondHalf) const {
 #if TG_COLLAPSE_AVX2
     if (plan_.vectorSolve()) {
       float a[kWidth + 1];
@@ -349,7 +356,7 @@ class PlanSolver {
       costsInto(firstHalf, a);
       for (int i = 0; i < kWidth; ++i) b[i] = std::numeric_limits<float>::infinity();
       costsInto(secondHalf, b + kWidth - 1);
-      solveAvx2(a, b, area, c);
+      solveAvx2(a, b, area, c, costs);
       return;
     }
 #endif
@@ -365,11 +372,11 @@ class PlanSolver {
       spreadOf(firstHalf, secondHalf, spread, first);
     }
     const float own = area + spread[kWidth];
-    c.cost[0] = own;
+    costs.cost[0] = own;
     std::uint32_t choices = std::uint32_t{first[kWidth]} << 21;
     for (int i = 2; i <= kWidth; ++i) {
       const bool isOwn = own <= spread[i];
-      c.cost[i - 1] = isOwn ? own : spread[i];
+      costs.cost[i - 1] = isOwn ? own : spread[i];
       choices |= (isOwn ? 0u : std::uint32_t{first[i]}) << (3 * (i - 2));
     }
     c.choices = choices;
@@ -426,7 +433,7 @@ class WideCollapse {
       out[n++] = p;
       return;
     }
-    const Bvh8PartCosts& c = costsOf(plan_, p);
+    const Bvh8PartChoice& c = choiceOf(plan_, p);
     const int k = c.firstRoots(i);
     if (k == 0) {
       out[n++] = p;
@@ -442,14 +449,14 @@ class WideCollapse {
   /// programme took to solve (3.3-4.1 ms against 3.9-4.0), most of it waiting on memory (perf:
   /// the loads of slot boxes and part records).
   std::uint32_t appendNode(const Part& p, Bvh8NodeArray& wide) {
-    const Bvh8PartCosts* const nodeParts = plan_.partsOf(p.node);
+    const Bvh8PartChoice* const nodeParts = plan_.choicesOf(p.node);
     const int part = partOf(nodeParts, p);
     const std::size_t at = 3 * std::size_t{p.node} + static_cast<std::size_t>(part);
     if (emitted_[at] != kInvalidId) return emitted_[at];
     Part children[kWidth];
     int n = 0;
     // A wide node of its own spreads its halves over its eight slots.
-    const Bvh8PartCosts& c = nodeParts[part];
+    const Bvh8PartChoice& c = nodeParts[part];
     const int k = c.ownFirst();
     roots(halfOf(c, 0), k, children, n);
     roots(halfOf(c, 1), kWidth - k, children, n);
@@ -497,7 +504,7 @@ Bvh8CollapsePlan::~Bvh8CollapsePlan() {
 }
 
 void Bvh8CollapsePlan::release() {
-  for (std::size_t b = 0; b < blockCount_; ++b) delete[] blocks_[b].load(std::memory_order_relaxed);
+  for (std::size_t b = 0; b < blockCount_; ++b) delete blocks_[b].load(std::memory_order_relaxed);
   blocks_.reset();
   blockCount_ = 0;
 }
@@ -505,18 +512,18 @@ void Bvh8CollapsePlan::release() {
 void Bvh8CollapsePlan::reset(std::size_t maxNodes) {
   release();
   blockCount_ = (maxNodes + kNodesPerBlock - 1) / kNodesPerBlock;
-  blocks_ = std::make_unique<std::atomic<Bvh8PartCosts*>[]>(blockCount_);
+  blocks_ = std::make_unique<std::atomic<Block*>[]>(blockCount_);
   for (std::size_t b = 0; b < blockCount_; ++b)
     blocks_[b].store(nullptr, std::memory_order_relaxed);
 }
 
 void Bvh8CollapsePlan::nodeBuilt(const Bvh4NodeArray& nodes, std::uint32_t index) {
-  std::atomic<Bvh8PartCosts*>& block = blocks_[index / kNodesPerBlock];
+  std::atomic<Block*>& block = blocks_[index / kNodesPerBlock];
   if (block.load(std::memory_order_acquire) == nullptr) {
     // Two threads may solve the first nodes of one block at once: one allocation wins.
-    auto* fresh = new Bvh8PartCosts[3 * kNodesPerBlock];
-    Bvh8PartCosts* expected = nullptr;
-    if (!block.compare_exchange_strong(expected, fresh, std::memory_order_acq_rel)) delete[] fresh;
+    auto* fresh = new Block;
+    Block* expected = nullptr;
+    if (!block.compare_exchange_strong(expected, fresh, std::memory_order_acq_rel)) delete fresh;
   }
   PlanSolver(nodes, *this).solveNode(index);
 }
