@@ -182,6 +182,7 @@ Part halfOf(const Bvh8PartChoice& c, int h) {
   return Part{c.halfNode[h], c.halfMask[h] & 15u, (c.halfMask[h] & 16u) != 0};
 }
 
+/// Stores the halves of a part in its choice record.
 void setHalves(Bvh8PartChoice& c, const Part& first, const Part& second) {
   c.halfNode[0] = first.node;
   c.halfNode[1] = second.node;
@@ -445,9 +446,8 @@ class WideCollapse {
 
   /// Appends the wide node of part `p` (not a leaf) and then, depth first, those of its inner
   /// children; returns its index. A part appended before is not appended again: its wide node
-  /// is shared. On one thread the flattened BART kitchen's nodes took as long to append as the
-  /// programme took to solve (3.3-4.1 ms against 3.9-4.0), most of it waiting on memory (perf:
-  /// the loads of slot boxes and part records).
+  /// is shared. The flattened BART kitchen's nodes take 1.7-1.8 ms to append on one thread, most
+  /// of it waiting on the first loads of BVH4 nodes and choices (see Bvh8PartChoice).
   std::uint32_t appendNode(const Part& p, Bvh8NodeArray& wide) {
     const Bvh8PartChoice* const nodeParts = plan_.choicesOf(p.node);
     const int part = partOf(nodeParts, p);

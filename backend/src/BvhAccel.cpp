@@ -267,7 +267,7 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   // waited (the flattened BART kitchen on two threads: 2.1 ms of a 17 ms build, after 1.5 ms
   // of rows; 1.066 instead of 1.097 of Embree MEDIUM's time, medians of six alternating
   // processes). The smallest-cost collapse that replaced them appends its nodes serially here
-  // (2.2-2.5 ms on two threads for that kitchen, beside 1.8-2.5 ms of rows). The trim
+  // (about 1.6 ms on two threads for that kitchen, beside about 2 ms of rows). The trim
   // stays before them: with the large node array still held, the rows and the copy went to fresh
   // pages, whose first touch cost about 12 us each on the same virtual machine (on one thread, in
   // most processes: 77-115 ms per build instead of 30, with about 4,000 more page faults each).
