@@ -53,10 +53,14 @@ template <bool AnyHit, class LeafFn>
   const __m256 tnear = _mm256_set1_ps(ray.tnear);
   const bool nonNegativeTnear = ray.nonNegativeTnear;
   bool found = false;
+  // The subtree being walked, as two scalars rather than an Entry: its key is read only when
+  // it comes off the stack, and an Entry kept whole was kept in memory, with the key of every
+  // child entered stored into it.
+  std::uint32_t child = current.child, leafCount = current.count;
   for (;;) {
-    if (current.count == 0) {
+    if (leafCount == 0) {
       ++count.visits;
-      const Bvh8Node& node = nodeData[current.child];
+      const Bvh8Node& node = nodeData[child];
       __m256 tmin = tnear, tmax = _mm256_set1_ps(tfar);
       // Rows of 32 bytes: twice Bvh4Ray's offsets, a scale the loads' addressing applies. (No
       // lambda here: it would not inherit this function's AVX2 target.)
@@ -76,30 +80,39 @@ template <bool AnyHit, class LeafFn>
       unsigned mask =
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ)));
       if (mask != 0) {
+        if constexpr (AnyHit) {
+          // The highest slot now, the others on the stack lowest first (the next highest on
+          // top). Any-hit walks read no keys but the root's (traverseBvh8 sorts by them).
+          const unsigned highest = 31u - static_cast<unsigned>(__builtin_clz(mask));
+          for (mask &= ~(1u << highest); mask != 0; mask &= mask - 1) {
+            const auto s = static_cast<unsigned>(__builtin_ctz(mask));
+            stack[stackSize++] = Entry{node.child[s], node.count[s], 0.0f};
+          }
+          child = node.child[highest];
+          leafCount = node.count[highest];
+          continue;
+        }
+        // One child hit (most nodes): straight into it, no key needed.
+        const auto s0 = static_cast<unsigned>(__builtin_ctz(mask));
+        mask &= mask - 1;
+        if (mask == 0) {
+          child = node.child[s0];
+          leafCount = node.count[s0];
+          continue;
+        }
         alignas(32) float key[8];
         _mm256_store_ps(key, tmin);
         const auto slot = [&](unsigned s) { return Entry{node.child[s], node.count[s], key[s]}; };
-        if constexpr (AnyHit) {
-          // The highest slot now, the others on the stack lowest first (the next highest on top).
-          const unsigned highest = 31u - static_cast<unsigned>(__builtin_clz(mask));
-          current = slot(highest);
-          for (mask &= ~(1u << highest); mask != 0; mask &= mask - 1)
-            stack[stackSize++] = slot(static_cast<unsigned>(__builtin_ctz(mask)));
-          continue;
-        }
-        // One or two children hit (most nodes): no sort. Smaller key first, slot order on ties.
-        const Entry e0 = slot(static_cast<unsigned>(__builtin_ctz(mask)));
-        mask &= mask - 1;
-        if (mask == 0) {
-          current = e0;
-          continue;
-        }
+        const Entry e0 = slot(s0);
         const Entry e1 = slot(static_cast<unsigned>(__builtin_ctz(mask)));
         mask &= mask - 1;
         if (mask == 0) {
+          // Two: the smaller key first, slot order on ties.
           const bool second = e1.key < e0.key;
           stack[stackSize++] = second ? e0 : e1;
-          current = second ? e1 : e0;
+          const Entry& next = second ? e1 : e0;
+          child = next.child;
+          leafCount = next.count;
           continue;
         }
         // Three or more: push them all and sort the run smallest key on top (slot order kept
@@ -117,23 +130,31 @@ template <bool AnyHit, class LeafFn>
           for (; j > base && stack[j - 1].key <= e.key; --j) stack[j] = stack[j - 1];
           stack[j] = e;
         }
-        current = stack[--stackSize];
+        const Entry& next = stack[--stackSize];
+        child = next.child;
+        leafCount = next.count;
         continue;
       }
-    } else if (leaf(current.child, current.count)) {
+    } else if (leaf(child, leafCount)) {
       if constexpr (AnyHit) return true;
       found = true;
     }
     if constexpr (AnyHit) {
       // tfar never changes: every entry on the stack is still to be walked.
       if (stackSize == 0) return false;
-      current = stack[--stackSize];
+      const Entry& next = stack[--stackSize];
+      child = next.child;
+      leafCount = next.count;
     } else {
       // Pop the next subtree whose entry still lies before the closest hit.
       for (;;) {
         if (stackSize == 0) return found;
-        current = stack[--stackSize];
-        if (!(current.key > tfar)) break;
+        const Entry& next = stack[--stackSize];
+        if (!(next.key > tfar)) {
+          child = next.child;
+          leafCount = next.count;
+          break;
+        }
       }
     }
   }
