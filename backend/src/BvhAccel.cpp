@@ -195,28 +195,35 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   // cost tests. They are marked by an empty box, then left out.
   // The same pass gathers the bounds of the primitives' centroids, which the builder would
   // otherwise gather in a pass of its own.
-  struct SahSummary : TriangleSummary {
-    Box3f centroids;
+  // The bounds in SSE registers, and each primitive written as its two 16-byte halves: Box3f
+  // accumulators and BvhPrim::make took a round trip through scalar floats per triangle.
+  struct SahSummary : LeafSummary {
+    SseBox centroids;
     void merge(const SahSummary& o) {
-      TriangleSummary::merge(o);
+      LeafSummary::merge(o);
       centroids.extend(o.centroids);
     }
   };
   prims_.resize(n);
+  const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
   const SahSummary summary =
       reduceTriangles<SahSummary>(n, 1024, [&](std::size_t i, SahSummary& acc) {
         const TriangleVertices t = verticesOf(mesh, i);
         __m128 a, b, c;
         loadVertices(t, a, b, c);
-        const bool isDegenerate = degenerate(t, a, b, c);
-        const Box3f box = triangleBox(a, b, c).box();
-        prims_[i] = BvhPrim::make(isDegenerate ? Box3f{} : box, static_cast<std::uint32_t>(i));
-        if (isDegenerate) {
+        if (degenerate(t, a, b, c)) {
+          prims_[i] = BvhPrim::make(Box3f{}, static_cast<std::uint32_t>(i));
           ++acc.degenerate;
-        } else {
-          acc.bounds.extend(box);
-          acc.centroids.extend(box.lower + box.upper);
+          return;
         }
+        const SseBox box = triangleBox(a, b, c);
+        // Lane 3: the id in the lower corner, zero in the upper one (BvhPrim's layout).
+        const __m128 id = _mm_castsi128_ps(_mm_set_epi32(static_cast<int>(i), 0, 0, 0));
+        _mm_store_ps(prims_[i].lower, _mm_or_ps(_mm_and_ps(box.lower, xyz), id));
+        _mm_store_ps(prims_[i].upper, _mm_and_ps(box.upper, xyz));
+        acc.bounds.extend(box);
+        const __m128 centroid = _mm_add_ps(box.lower, box.upper);
+        acc.centroids.extend(centroid, centroid);
       });
   if (summary.degenerate != 0) {
     std::erase_if(prims_, [](const BvhPrim& p) { return p.lower[0] > p.upper[0]; });
@@ -233,7 +240,7 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   options.parallelThreshold = kParallelBuildRange;
   BvhBuildResult result;
   result.nodes.swap(nodes_);  // reuse the node memory of the previous build
-  const BvhPrimBounds primBounds{summary.bounds, summary.centroids};
+  const BvhPrimBounds primBounds{summary.bounds.box(), summary.centroids.box()};
   // Decided here, on the calling thread, not on whichever thread runs the copy.
   const bool makeWide = TG_BVH8_WALK && activeSimdIsa() != SimdIsa::Portable;
   // The eight-wide collapse's programme is solved as the builder finishes each node, on its
@@ -284,7 +291,7 @@ void BvhAccel::buildSah(const TriangleMesh& mesh) {
   // A static tree is never refitted: keep neither the topology nor the build scratch.
   std::vector<std::uint32_t>().swap(indices_);
   BvhPrimArray().swap(prims_);
-  bounds_ = summary.bounds;
+  bounds_ = summary.bounds.box();
   stats_.degenerate = summary.degenerate;
   stats_.leaves = result.leaves;
   stats_.maxDepth = result.maxDepth;
